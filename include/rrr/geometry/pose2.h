@@ -1,0 +1,57 @@
+// SE(2): rigid motions of the plane as a small value type.
+#ifndef RRR_GEOMETRY_POSE2_H_
+#define RRR_GEOMETRY_POSE2_H_
+
+#include <Eigen/Core>
+
+namespace rrr {
+
+// A pose in the plane: rotation by `theta` (radians) then translation `t`.
+// The tangent vector is ordered (x, y, theta), as in g2o's EDGE_SE2
+// information matrices; perturbations are applied on the right:
+// x ⊕ δ = x · Exp(δ).
+class Pose2 {
+ public:
+  static constexpr int kDof = 3;
+  static constexpr int kTranslationDim = 2;
+  using Tangent = Eigen::Matrix<double, kDof, 1>;
+  using Jacobian = Eigen::Matrix<double, kDof, kDof>;
+  using Translation = Eigen::Vector2d;
+
+  // The identity.
+  Pose2() = default;
+  // `theta` is wrapped to (-pi, pi].
+  Pose2(double x, double y, double theta);
+
+  double x() const { return t_.x(); }
+  double y() const { return t_.y(); }
+  double theta() const { return theta_; }
+  const Translation& translation() const { return t_; }
+  Eigen::Matrix2d rotation() const;
+
+  // this · other.
+  Pose2 operator*(const Pose2& other) const;
+  Pose2 inverse() const;
+  // this⁻¹ · other: `other` seen from this pose.
+  Pose2 between(const Pose2& other) const { return inverse() * other; }
+  // Rotation angle of the pose in radians, in [0, pi].
+  double angle() const;
+
+  static Pose2 Exp(const Tangent& xi);
+  // Exact inverse of Exp for rotations in (-pi, pi].
+  Tangent Log() const;
+  // Adjoint: Exp(Ad · ξ) = this · Exp(ξ) · this⁻¹.
+  Jacobian Adjoint() const;
+  // Right Jacobian Jr(ξ): Exp(ξ + δ) ≈ Exp(ξ) · Exp(Jr(ξ) δ), and its inverse:
+  // Log(Exp(ξ) · Exp(δ)) ≈ ξ + Jr⁻¹(ξ) δ.
+  static Jacobian RightJacobian(const Tangent& xi);
+  static Jacobian RightJacobianInverse(const Tangent& xi);
+
+ private:
+  Translation t_ = Translation::Zero();
+  double theta_ = 0.0;
+};
+
+}  // namespace rrr
+
+#endif  // RRR_GEOMETRY_POSE2_H_

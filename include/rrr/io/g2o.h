@@ -1,0 +1,62 @@
+// Reading and writing pose graphs in the g2o text format.
+#ifndef RRR_IO_G2O_H_
+#define RRR_IO_G2O_H_
+
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/graph/pose_graph.h"
+
+namespace rrr {
+
+using PoseGraph2 = PoseGraph<Pose2>;
+using PoseGraph3 = PoseGraph<Pose3>;
+using AnyPoseGraph = std::variant<PoseGraph2, PoseGraph3>;
+
+// A parsed g2o file. Lines with tags other than VERTEX_SE2, EDGE_SE2,
+// VERTEX_SE3:QUAT, EDGE_SE3:QUAT and FIX are skipped and counted by tag.
+struct G2oFile {
+  AnyPoseGraph graph;
+  std::map<std::string, int> skipped_tags;
+};
+
+// Parses g2o text. Every malformed input (missing or extra fields, a field
+// that is not a finite number, a duplicate vertex, an edge to an unknown
+// vertex, an information matrix that is not positive definite, a zero
+// quaternion, 2D and 3D elements in one file, a file without vertices) throws
+// InputError naming `source`, the line and the problem.
+G2oFile ParseG2o(std::istream& in, const std::string& source);
+// Reads the file at `path`; throws InputError if it cannot be opened.
+G2oFile ReadG2o(const std::string& path);
+
+// Human-readable summary of skipped tags ("VERTEX_XY x3, ..."), empty if none.
+std::string DescribeSkipped(const std::map<std::string, int>& skipped_tags);
+
+// Writes `graph` with `estimates` as vertex values, every odometry edge and
+// the loops whose indices (into graph.loops()) are listed in `loops`, in the
+// order given. Values are written with full double precision.
+template <class Pose>
+void WriteG2o(const PoseGraph<Pose>& graph, const std::vector<Pose>& estimates,
+              const std::vector<int>& loops, std::ostream& out);
+// Same, to a file; throws InputError if it cannot be written.
+template <class Pose>
+void WriteG2oFile(const PoseGraph<Pose>& graph,
+                  const std::vector<Pose>& estimates,
+                  const std::vector<int>& loops, const std::string& path);
+
+// All loop indices 0..graph.loops().size()-1.
+template <class Pose>
+std::vector<int> AllLoops(const PoseGraph<Pose>& graph) {
+  std::vector<int> all(graph.loops().size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  return all;
+}
+
+}  // namespace rrr
+
+#endif  // RRR_IO_G2O_H_

@@ -1,0 +1,36 @@
+// Grouping loop candidates into clusters of topologically related links.
+#ifndef RRR_RRR_CLUSTERING_H_
+#define RRR_RRR_CLUSTERING_H_
+
+#include <vector>
+
+#include "rrr/graph/pose_graph.h"
+
+namespace rrr {
+
+// A cluster: loops that link one stretch of trajectory [start_low,
+// start_high] (the later ends) to one earlier stretch [end_low, end_high].
+struct Cluster {
+  PoseId start_low, start_high, end_low, end_high;
+  std::vector<int> loops;  // loop indices, in the order they joined
+};
+
+// Assigns loops to clusters as they are added (RRR_ALGORITHM.md §1): with
+// start = max(a, b), end = min(a, b), a loop joins the first cluster (in
+// creation order) with a start bound and an end bound each closer than
+// `window`, widening its ranges, or opens a new cluster.
+class Clustering {
+ public:
+  explicit Clustering(PoseId window) : window_(window) {}
+  // Adds loop `loop` between poses with ids a and b; returns its cluster.
+  int Add(int loop, PoseId a, PoseId b);
+  const std::vector<Cluster>& clusters() const { return clusters_; }
+
+ private:
+  PoseId window_;
+  std::vector<Cluster> clusters_;
+};
+
+}  // namespace rrr
+
+#endif  // RRR_RRR_CLUSTERING_H_

@@ -1,0 +1,67 @@
+// A symmetric positive definite block-sparse system solved with CHOLMOD.
+#ifndef RRR_SOLVER_BLOCK_CHOLESKY_H_
+#define RRR_SOLVER_BLOCK_CHOLESKY_H_
+
+#include <cholmod.h>
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace rrr {
+
+// The matrix has `num_blocks` × `num_blocks` blocks of size D × D: all
+// diagonal blocks and the off-diagonal blocks given at construction. The
+// sparsity pattern is analysed (fill-reducing ordering, supernodal symbolic
+// factorization) once, at construction; each Solve() only refactorizes
+// numerically. Blocks of the pattern that are left zero cost nothing extra in
+// correctness, so one instance serves every subset of the pattern's edges.
+template <int D>
+class BlockCholesky {
+ public:
+  using Block = Eigen::Matrix<double, D, D>;
+
+  // `off_diagonal` lists block pairs (r, c) with r != c; each unordered pair
+  // may appear any number of times. Throws std::runtime_error if CHOLMOD fails.
+  BlockCholesky(int num_blocks,
+                const std::vector<std::pair<int, int>>& off_diagonal);
+  ~BlockCholesky();
+  BlockCholesky(const BlockCholesky&) = delete;
+  BlockCholesky& operator=(const BlockCholesky&) = delete;
+
+  int num_blocks() const { return num_blocks_; }
+  // The slot of the off-diagonal block {r, c}, to be used with AddOffDiagonal.
+  // Throws std::out_of_range if the pair is not in the pattern.
+  int OffDiagonalSlot(int r, int c) const;
+
+  // Clears every value (the pattern stays).
+  void SetZero();
+  // A(b, b) += m; m must be symmetric.
+  void AddDiagonal(int block, const Block& m);
+  // A(r, c) += m and A(c, r) += mᵀ for the slot of (r, c) in that order.
+  void AddOffDiagonal(int slot, int r, int c, const Block& m);
+
+  // Solves A x = rhs. Returns false if A is not positive definite.
+  bool Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x);
+
+ private:
+  struct CholmodDeleter;
+  int num_blocks_;
+  // For each slot: block row, block column (row < column) and, for each of
+  // the D scalar columns, the index in A's values of the block's first row.
+  struct Slot {
+    int row, col;
+    int start[D];
+  };
+  std::vector<Slot> slots_;  // diagonal blocks first: slot b is block (b, b).
+  std::vector<std::vector<std::pair<int, int>>> slot_by_col_;  // (row, slot)
+  std::unique_ptr<cholmod_common> common_;
+  cholmod_sparse* matrix_ = nullptr;
+  cholmod_factor* factor_ = nullptr;
+};
+
+}  // namespace rrr
+
+#endif  // RRR_SOLVER_BLOCK_CHOLESKY_H_

@@ -1,0 +1,303 @@
+#include "rrr/io/g2o.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+
+#include "rrr/io/input_error.h"
+
+namespace rrr {
+namespace {
+
+enum class Dimension { kUnknown, k2D, k3D };
+
+struct PendingVertex {
+  int line;
+  std::vector<double> values;
+};
+
+struct PendingEdge {
+  int line;
+  PoseId from, to;
+  std::vector<double> values;
+};
+
+// One line split into fields, with number parsing that reports its position.
+class Fields {
+ public:
+  Fields(const std::string& text, const std::string& source, int line)
+      : source_(source), line_(line) {
+    std::istringstream s(text);
+    std::string f;
+    while (s >> f) fields_.push_back(f);
+  }
+  size_t size() const { return fields_.size(); }
+  const std::string& tag() const { return fields_[0]; }
+
+  void ExpectCount(size_t n) const {
+    if (fields_.size() != n) {
+      Fail(tag() + " needs " + std::to_string(n - 1) + " fields, found " +
+           std::to_string(fields_.size() - 1));
+    }
+  }
+  double Number(size_t k) const {
+    const std::string& f = fields_[k];
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(f.c_str(), &end);
+    if (end == f.c_str() || *end != '\0' || errno == ERANGE) {
+      Fail("field " + std::to_string(k) + " '" + f + "' is not a number");
+    }
+    if (!std::isfinite(v)) {
+      Fail("field " + std::to_string(k) + " '" + f + "' is not finite");
+    }
+    return v;
+  }
+  PoseId Id(size_t k) const {
+    const std::string& f = fields_[k];
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(f.c_str(), &end, 10);
+    if (end == f.c_str() || *end != '\0' || errno == ERANGE) {
+      Fail("field " + std::to_string(k) + " '" + f + "' is not a vertex id");
+    }
+    return v;
+  }
+  std::vector<double> Numbers(size_t first) const {
+    std::vector<double> v;
+    for (size_t k = first; k < fields_.size(); ++k) v.push_back(Number(k));
+    return v;
+  }
+  [[noreturn]] void Fail(const std::string& problem) const {
+    throw InputError(source_, line_, problem);
+  }
+
+ private:
+  std::vector<std::string> fields_;
+  const std::string& source_;
+  int line_;
+};
+
+// Pose and information layouts of the two supported element types.
+template <class Pose>
+struct G2oTraits;
+
+template <>
+struct G2oTraits<Pose2> {
+  static constexpr int kPoseFields = 3;
+  static constexpr const char* kVertexTag = "VERTEX_SE2";
+  static constexpr const char* kEdgeTag = "EDGE_SE2";
+  static std::optional<Pose2> MakePose(const double* v, std::string*) {
+    return Pose2(v[0], v[1], v[2]);
+  }
+  static void WritePose(const Pose2& p, std::ostream& out) {
+    out << p.x() << ' ' << p.y() << ' ' << p.theta();
+  }
+};
+
+template <>
+struct G2oTraits<Pose3> {
+  static constexpr int kPoseFields = 7;
+  static constexpr const char* kVertexTag = "VERTEX_SE3:QUAT";
+  static constexpr const char* kEdgeTag = "EDGE_SE3:QUAT";
+  static std::optional<Pose3> MakePose(const double* v, std::string* problem) {
+    const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
+    if (q.norm() < 1e-9) {
+      *problem = "the quaternion has zero norm";
+      return std::nullopt;
+    }
+    return Pose3(q, Eigen::Vector3d(v[0], v[1], v[2]));
+  }
+  static void WritePose(const Pose3& p, std::ostream& out) {
+    const Eigen::Vector3d& t = p.translation();
+    const Eigen::Quaterniond& q = p.quaternion();
+    out << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' '
+        << q.y() << ' ' << q.z() << ' ' << q.w();
+  }
+};
+
+template <class Pose>
+PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
+                           const std::vector<PendingEdge>& edges,
+                           const std::vector<std::pair<int, PoseId>>& fixed,
+                           const std::string& source) {
+  using Traits = G2oTraits<Pose>;
+  constexpr int kDof = Pose::kDof;
+  PoseGraph<Pose> graph;
+  std::string problem;
+  for (const auto& [id, v] : vertices) {
+    const std::optional<Pose> pose = Traits::MakePose(v.values.data(), &problem);
+    if (!pose) throw InputError(source, v.line, problem);
+    graph.AddPose(id, *pose);
+  }
+  for (const PendingEdge& e : edges) {
+    typename PoseGraph<Pose>::Edge edge;
+    edge.from = graph.IndexOf(e.from);
+    edge.to = graph.IndexOf(e.to);
+    for (const PoseId id : {e.from, e.to}) {
+      if (graph.IndexOf(id) < 0) {
+        throw InputError(source, e.line,
+                         "edge refers to unknown vertex " + std::to_string(id));
+      }
+    }
+    if (e.from == e.to) {
+      throw InputError(source, e.line, "edge connects vertex " +
+                                           std::to_string(e.from) +
+                                           " to itself");
+    }
+    const std::optional<Pose> z = Traits::MakePose(e.values.data(), &problem);
+    if (!z) throw InputError(source, e.line, problem);
+    edge.measurement = *z;
+    const double* upper = e.values.data() + Traits::kPoseFields;
+    for (int r = 0, k = 0; r < kDof; ++r) {
+      for (int c = r; c < kDof; ++c, ++k) {
+        edge.information(r, c) = edge.information(c, r) = upper[k];
+      }
+    }
+    const Eigen::LLT<typename PoseGraph<Pose>::Edge::Information> llt(
+        edge.information);
+    if (llt.info() != Eigen::Success) {
+      throw InputError(source, e.line,
+                       "information matrix of edge " + std::to_string(e.from) +
+                           " -> " + std::to_string(e.to) +
+                           " is not positive definite");
+    }
+    graph.AddEdge(edge);
+  }
+  for (const auto& [line, id] : fixed) {
+    const int index = graph.IndexOf(id);
+    if (index < 0) {
+      throw InputError(source, line,
+                       "FIX refers to unknown vertex " + std::to_string(id));
+    }
+    graph.Fix(index);
+  }
+  return graph;
+}
+
+}  // namespace
+
+G2oFile ParseG2o(std::istream& in, const std::string& source) {
+  Dimension dim = Dimension::kUnknown;
+  std::map<PoseId, PendingVertex> vertices;
+  std::vector<PendingEdge> edges;
+  std::vector<std::pair<int, PoseId>> fixed;
+  std::map<std::string, int> skipped;
+
+  const auto set_dimension = [&dim](Dimension d, const Fields& f) {
+    if (dim != Dimension::kUnknown && dim != d) {
+      f.Fail("mixes 2D and 3D elements: " + f.tag() + " in a " +
+             (dim == Dimension::k2D ? "2D" : "3D") + " file");
+    }
+    dim = d;
+  };
+
+  std::string text;
+  int line = 0;
+  while (std::getline(in, text)) {
+    ++line;
+    const Fields f(text, source, line);
+    if (f.size() == 0 || f.tag()[0] == '#') continue;
+    const std::string& tag = f.tag();
+    const bool is2d_vertex = tag == G2oTraits<Pose2>::kVertexTag;
+    const bool is3d_vertex = tag == G2oTraits<Pose3>::kVertexTag;
+    const bool is2d_edge = tag == G2oTraits<Pose2>::kEdgeTag;
+    const bool is3d_edge = tag == G2oTraits<Pose3>::kEdgeTag;
+    if (is2d_vertex || is3d_vertex) {
+      set_dimension(is2d_vertex ? Dimension::k2D : Dimension::k3D, f);
+      f.ExpectCount(2 + (is2d_vertex ? 3 : 7));
+      const PoseId id = f.Id(1);
+      if (vertices.count(id)) {
+        f.Fail("vertex " + std::to_string(id) + " is defined twice (first on line " +
+               std::to_string(vertices[id].line) + ")");
+      }
+      vertices[id] = PendingVertex{line, f.Numbers(2)};
+    } else if (is2d_edge || is3d_edge) {
+      set_dimension(is2d_edge ? Dimension::k2D : Dimension::k3D, f);
+      f.ExpectCount(3 + (is2d_edge ? 3 + 6 : 7 + 21));
+      edges.push_back(PendingEdge{line, f.Id(1), f.Id(2), f.Numbers(3)});
+    } else if (tag == "FIX") {
+      if (f.size() < 2) f.Fail("FIX needs at least one vertex id");
+      for (size_t k = 1; k < f.size(); ++k) fixed.emplace_back(line, f.Id(k));
+    } else {
+      ++skipped[tag];
+    }
+  }
+  if (in.bad()) throw InputError(source, 0, "read error");
+  if (vertices.empty()) throw InputError(source, 0, "no vertices");
+
+  G2oFile file{dim == Dimension::k3D
+                   ? AnyPoseGraph(BuildGraph<Pose3>(vertices, edges, fixed, source))
+                   : AnyPoseGraph(BuildGraph<Pose2>(vertices, edges, fixed, source)),
+               skipped};
+  return file;
+}
+
+G2oFile ReadG2o(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "cannot open file");
+  return ParseG2o(in, path);
+}
+
+std::string DescribeSkipped(const std::map<std::string, int>& skipped_tags) {
+  std::string out;
+  for (const auto& [tag, count] : skipped_tags) {
+    if (!out.empty()) out += ", ";
+    out += tag + " x" + std::to_string(count);
+  }
+  return out;
+}
+
+template <class Pose>
+void WriteG2o(const PoseGraph<Pose>& graph, const std::vector<Pose>& estimates,
+              const std::vector<int>& loops, std::ostream& out) {
+  using Traits = G2oTraits<Pose>;
+  const auto old_precision = out.precision(std::numeric_limits<double>::max_digits10);
+  const auto& ids = graph.ids();
+  for (int k = 0; k < graph.num_poses(); ++k) {
+    out << Traits::kVertexTag << ' ' << ids[k] << ' ';
+    Traits::WritePose(estimates[k], out);
+    out << '\n';
+  }
+  for (const int k : graph.fixed()) out << "FIX " << ids[k] << '\n';
+  const auto write_edge = [&](const typename PoseGraph<Pose>::Edge& e) {
+    out << Traits::kEdgeTag << ' ' << ids[e.from] << ' ' << ids[e.to] << ' ';
+    Traits::WritePose(e.measurement, out);
+    for (int r = 0; r < Pose::kDof; ++r) {
+      for (int c = r; c < Pose::kDof; ++c) out << ' ' << e.information(r, c);
+    }
+    out << '\n';
+  };
+  for (const auto& e : graph.odometry()) write_edge(e);
+  for (const int k : loops) write_edge(graph.loops().at(k));
+  out.precision(old_precision);
+}
+
+template <class Pose>
+void WriteG2oFile(const PoseGraph<Pose>& graph,
+                  const std::vector<Pose>& estimates,
+                  const std::vector<int>& loops, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path, 0, "cannot open file for writing");
+  WriteG2o(graph, estimates, loops, out);
+  out.close();
+  if (!out) throw InputError(path, 0, "write failed");
+}
+
+template void WriteG2o(const PoseGraph2&, const std::vector<Pose2>&,
+                       const std::vector<int>&, std::ostream&);
+template void WriteG2o(const PoseGraph3&, const std::vector<Pose3>&,
+                       const std::vector<int>&, std::ostream&);
+template void WriteG2oFile(const PoseGraph2&, const std::vector<Pose2>&,
+                           const std::vector<int>&, const std::string&);
+template void WriteG2oFile(const PoseGraph3&, const std::vector<Pose3>&,
+                           const std::vector<int>&, const std::string&);
+
+}  // namespace rrr

@@ -1,0 +1,56 @@
+#include "rrr/rrr/batch_verifier.h"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+#include "rrr/rrr/chi_square.h"
+#include "rrr/rrr/consistency_tests.h"
+
+namespace rrr {
+
+Verdict VerifyBatch(const std::vector<std::pair<PoseId, PoseId>>& loop_ends,
+                    ConsistencySolver& solver, const RrrOptions& options,
+                    const ProgressCallback& progress) {
+  const std::string problem = options.Validate();
+  if (!problem.empty()) throw std::invalid_argument(problem);
+  const ChiSquareQuantile chi2(options.alpha);
+
+  std::vector<int> order(loop_ends.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+    return loop_ends[x] < loop_ends[y];
+  });
+  Clustering clustering(options.cluster_window);
+  Verdict verdict;
+  verdict.cluster_of_loop.resize(loop_ends.size());
+  for (const int k : order) {
+    verdict.cluster_of_loop[k] =
+        clustering.Add(k, loop_ends[k].first, loop_ends[k].second);
+  }
+  verdict.clusters = clustering.clusters();
+
+  const int num_clusters = static_cast<int>(verdict.clusters.size());
+  std::vector<std::vector<int>> survivors;
+  for (int c = 0; c < num_clusters; ++c) {
+    std::vector<int> kept =
+        IntraClusterConsistent(verdict.clusters[c].loops, solver, chi2);
+    if (!kept.empty()) survivors.push_back(std::move(kept));
+    if (progress) progress(c + 1, num_clusters);
+  }
+  const std::vector<bool> good =
+      InterClusterConsistent(survivors, solver, chi2);
+
+  std::vector<bool> accepted(loop_ends.size(), false);
+  for (size_t c = 0; c < survivors.size(); ++c) {
+    if (!good[c]) continue;
+    for (const int k : survivors[c]) accepted[k] = true;
+  }
+  for (size_t k = 0; k < loop_ends.size(); ++k) {
+    (accepted[k] ? verdict.accepted : verdict.rejected)
+        .push_back(static_cast<int>(k));
+  }
+  return verdict;
+}
+
+}  // namespace rrr

@@ -1,0 +1,128 @@
+#include "rrr/solver/gauss_newton.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/solver/edge_error.h"
+
+namespace rrr {
+namespace {
+
+// Poses 0..n on the x axis, odometry measuring 1 m each, and one loop from
+// pose 0 to pose n measuring `loop_length`; all with information `w`·I.
+PoseGraph<Pose2> StraightLine(int n, double loop_length, double w) {
+  PoseGraph<Pose2> g;
+  for (int k = 0; k <= n; ++k) g.AddPose(k, Pose2(k, 0, 0));
+  Constraint<Pose2> e;
+  e.information *= w;
+  for (int k = 0; k < n; ++k) {
+    e.from = k;
+    e.to = k + 1;
+    e.measurement = Pose2(1, 0, 0);
+    g.AddEdge(e);
+  }
+  e.from = 0;
+  e.to = n;
+  e.measurement = Pose2(loop_length, 0, 0);
+  g.AddEdge(e);
+  return g;
+}
+
+TEST(GaussNewton, StraightLoopHasTheLeastSquaresAnswer) {
+  const int n = 10;
+  const double loop_length = 8.0, w = 4.0;
+  const auto g = StraightLine(n, loop_length, w);
+  GaussNewton<Pose2> solver(g, 4);
+  // Minimising n (s-1)² + (n s - L)² gives a uniform step s = (1 + L)/(1 + n).
+  const double s = (1 + loop_length) / (1 + n);
+  int iterations = 0;
+  const auto x = solver.Optimize({0}, ConvergenceOptions(), &iterations);
+  for (int k = 0; k <= n; ++k) {
+    EXPECT_NEAR(x[k].x(), k * s, 1e-9);
+    EXPECT_NEAR(x[k].y(), 0, 1e-12);
+  }
+  EXPECT_LE(iterations, 3);
+  const SubsetErrors errors = solver.Solve({0});
+  const double expected_total = w * (n * (s - 1) * (s - 1) +
+                                     (n * s - loop_length) * (n * s - loop_length));
+  EXPECT_NEAR(errors.total_chi2, expected_total, 1e-9);
+  EXPECT_EQ(errors.num_edges, n + 1);
+  ASSERT_EQ(errors.loop_chi2.size(), 1u);
+  EXPECT_NEAR(errors.loop_chi2[0], w * (n * s - loop_length) * (n * s - loop_length),
+              1e-9);
+}
+
+TEST(GaussNewton, SolveStartsFromOdometryEveryTime) {
+  const auto g = StraightLine(6, 3.0, 1.0);
+  GaussNewton<Pose2> solver(g, 4);
+  const SubsetErrors none = solver.Solve({});
+  EXPECT_NEAR(none.total_chi2, 0.0, 1e-12);
+  EXPECT_TRUE(none.loop_chi2.empty());
+  const SubsetErrors with_loop = solver.Solve({0});
+  EXPECT_GT(with_loop.total_chi2, 1.0);
+  const SubsetErrors again = solver.Solve({0});
+  EXPECT_DOUBLE_EQ(again.total_chi2, with_loop.total_chi2);
+  EXPECT_NEAR(solver.Solve({}).total_chi2, 0.0, 1e-12);
+}
+
+// A circle of poses in 3D with noisy odometry and exact loops back to the
+// start: the optimum is a stationary point of the total error.
+TEST(GaussNewton, ConvergesToAStationaryPointIn3D) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  const int n = 40;
+  std::vector<Pose3> truth;
+  for (int k = 0; k < n; ++k) {
+    const double a = 2 * M_PI * k / n;
+    Pose3::Tangent xi;
+    xi << 0, 0, 0.1 * std::sin(a), 0, 0, a;
+    truth.push_back(Pose3::Exp(xi) * Pose3(Eigen::Quaterniond::Identity(),
+                                           Eigen::Vector3d(5, 0, 0)));
+  }
+  PoseGraph<Pose3> g;
+  for (int k = 0; k < n; ++k) g.AddPose(k, truth[k]);
+  Constraint<Pose3> e;
+  for (int k = 0; k + 1 < n; ++k) {
+    Pose3::Tangent xi;
+    for (int d = 0; d < 6; ++d) xi[d] = noise(rng);
+    e.from = k;
+    e.to = k + 1;
+    e.measurement = truth[k].between(truth[k + 1]) * Pose3::Exp(xi);
+    g.AddEdge(e);
+  }
+  for (const int j : {n - 1, n - 2}) {
+    e.from = j;
+    e.to = 0;
+    e.measurement = truth[j].between(truth[0]);
+    g.AddEdge(e);
+  }
+  GaussNewton<Pose3> solver(g, 4);
+  const auto x = solver.Optimize({0, 1}, ConvergenceOptions());
+  const double best = solver.Evaluate({0, 1}, x).total_chi2;
+  EXPECT_LT(best, solver.Evaluate({0, 1}, solver.initial()).total_chi2);
+  for (int trial = 0; trial < 20; ++trial) {
+    auto y = x;
+    const int k = 1 + trial % (n - 1);
+    Pose3::Tangent xi;
+    for (int d = 0; d < 6; ++d) xi[d] = 1e-3 * noise(rng);
+    y[k] = y[k] * Pose3::Exp(xi);
+    EXPECT_GE(solver.Evaluate({0, 1}, y).total_chi2, best - 1e-12);
+  }
+  // The first pose stays where odometry put it.
+  EXPECT_LT(x[0].between(truth[0]).Log().norm(), 1e-12);
+}
+
+TEST(GaussNewton, HoldsFixedPoses) {
+  auto g = StraightLine(4, 2.0, 1.0);
+  g.Fix(4);
+  GaussNewton<Pose2> solver(g, 4);
+  const auto x = solver.Optimize({0}, ConvergenceOptions());
+  EXPECT_DOUBLE_EQ(x[4].x(), 4.0);
+  EXPECT_DOUBLE_EQ(x[0].x(), 0.0);
+}
+
+}  // namespace
+}  // namespace rrr
