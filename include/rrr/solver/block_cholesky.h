@@ -14,9 +14,9 @@ namespace rrr {
 
 // The matrix has `num_blocks` × `num_blocks` blocks of size D × D: all
 // diagonal blocks and the off-diagonal blocks given at construction. The
-// sparsity pattern is analysed (fill-reducing ordering, supernodal symbolic
-// factorization) once, at construction; each Solve() only refactorizes
-// numerically. Blocks of the pattern that are left zero cost nothing extra in
+// sparsity pattern is analysed once, at construction: a fill-reducing block
+// ordering, in which the matrix is then stored, and the symbolic
+// factorization. Each Solve() only refactorizes numerically, in place. Blocks of the pattern that are left zero cost nothing extra in
 // correctness, so one instance serves every subset of the pattern's edges.
 template <int D>
 class BlockCholesky {
@@ -47,16 +47,18 @@ class BlockCholesky {
   bool Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x);
 
  private:
-  struct CholmodDeleter;
   int num_blocks_;
-  // For each slot: block row, block column (row < column) and, for each of
+  std::vector<int> position_;  // permuted position of each block
+  // For each slot: permuted block row and column (row <= column) and, for each of
   // the D scalar columns, the index in A's values of the block's first row.
   struct Slot {
     int row, col;
     int start[D];
   };
-  std::vector<Slot> slots_;  // diagonal blocks first: slot b is block (b, b).
-  std::vector<std::vector<std::pair<int, int>>> slot_by_col_;  // (row, slot)
+  std::vector<Slot> slots_;  // slot p < num_blocks is diagonal position p
+  // Per permuted block column: (permuted block row, slot), rows ascending.
+  std::vector<std::vector<std::pair<int, int>>> slot_by_col_;
+  Eigen::VectorXd rhs_;  // right-hand side in permuted order
   std::unique_ptr<cholmod_common> common_;
   cholmod_sparse* matrix_ = nullptr;
   cholmod_factor* factor_ = nullptr;

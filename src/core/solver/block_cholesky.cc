@@ -6,33 +6,75 @@
 
 namespace rrr {
 
+namespace {
+
+// A fill-reducing ordering of the block pattern (upper triangle given per
+// column); returns position[block].
+std::vector<int> BlockOrdering(
+    const std::vector<std::vector<std::pair<int, int>>>& upper_by_col,
+    cholmod_common* common) {
+  const size_t n = upper_by_col.size();
+  size_t nnz = 0;
+  for (const auto& col : upper_by_col) nnz += col.size();
+  cholmod_sparse* pattern = cholmod_allocate_sparse(
+      n, n, nnz, 1, 1, /*stype=*/1, CHOLMOD_PATTERN, common);
+  if (!pattern) throw std::runtime_error("CHOLMOD could not allocate pattern");
+  auto* colptr = static_cast<int*>(pattern->p);
+  auto* rowind = static_cast<int*>(pattern->i);
+  int p = 0;
+  for (size_t c = 0; c < n; ++c) {
+    colptr[c] = p;
+    for (const auto& entry : upper_by_col[c]) rowind[p++] = entry.first;
+  }
+  colptr[n] = p;
+  cholmod_factor* symbolic = cholmod_analyze(pattern, common);
+  if (!symbolic) throw std::runtime_error("CHOLMOD ordering failed");
+  std::vector<int> position(n);
+  const auto* perm = static_cast<const int*>(symbolic->Perm);
+  for (size_t k = 0; k < n; ++k) position[perm[k]] = static_cast<int>(k);
+  cholmod_free_factor(&symbolic, common);
+  cholmod_free_sparse(&pattern, common);
+  return position;
+}
+
+}  // namespace
+
 template <int D>
 BlockCholesky<D>::BlockCholesky(
     int num_blocks, const std::vector<std::pair<int, int>>& off_diagonal)
     : num_blocks_(num_blocks),
-      slot_by_col_(num_blocks),
       common_(std::make_unique<cholmod_common>()) {
   cholmod_start(common_.get());
-  common_->supernodal = CHOLMOD_SUPERNODAL;
   common_->print = 0;
 
-  // Upper-triangular block pattern, one slot per distinct pair.
-  for (int b = 0; b < num_blocks; ++b) slot_by_col_[b].emplace_back(b, b);
+  // Upper-triangular block pattern in the user's block numbering.
+  std::vector<std::vector<std::pair<int, int>>> by_col(num_blocks);
+  for (int b = 0; b < num_blocks; ++b) by_col[b].emplace_back(b, b);
   for (const auto& [a, b] : off_diagonal) {
-    slot_by_col_[std::max(a, b)].emplace_back(std::min(a, b), -1);
+    by_col[std::max(a, b)].emplace_back(std::min(a, b), -1);
+  }
+  for (auto& col : by_col) {
+    std::sort(col.begin(), col.end());
+    col.erase(std::unique(col.begin(), col.end()), col.end());
+  }
+  // Order the blocks once; the matrix is stored permuted, so every numeric
+  // factorization runs in natural order without copying the matrix.
+  position_ = BlockOrdering(by_col, common_.get());
+  slot_by_col_.assign(num_blocks, {});
+  for (int c = 0; c < num_blocks; ++c) {
+    for (const auto& entry : by_col[c]) {
+      const int pr = position_[entry.first], pc = position_[c];
+      slot_by_col_[std::max(pr, pc)].emplace_back(std::min(pr, pc), -1);
+    }
   }
   int num_slots = 0;
   for (auto& col : slot_by_col_) {
     std::sort(col.begin(), col.end());
-    col.erase(std::unique(col.begin(), col.end(),
-                          [](const auto& x, const auto& y) {
-                            return x.first == y.first;
-                          }),
-              col.end());
     num_slots += static_cast<int>(col.size());
   }
   slots_.resize(num_slots);
-  // Diagonal blocks take slots 0..num_blocks-1, the rest follow.
+  // Diagonal blocks take slots 0..num_blocks-1 (by permuted position), the
+  // rest follow.
   int next = num_blocks;
   for (int c = 0; c < num_blocks; ++c) {
     for (auto& [r, slot] : slot_by_col_[c]) slot = (r == c) ? c : next++;
@@ -62,11 +104,19 @@ BlockCholesky<D>::BlockCholesky(
     }
   }
   colptr[n] = p;
-  // Analyse with a positive definite stand-in for the values.
+  // Symbolic factorization in the stored (already reduced-fill) order.
+  common_->nmethods = 1;
+  common_->method[0].ordering = CHOLMOD_NATURAL;
+  common_->postorder = 0;
+  // Pose-graph factors have tiny supernodes; Debian's supernodal kernel also
+  // enters OpenMP regions per supernode. Simplicial is 5x faster here
+  // (BENCHMARKS.md, "Factorization").
+  common_->supernodal = CHOLMOD_SIMPLICIAL;
   SetZero();
   for (int b = 0; b < num_blocks; ++b) AddDiagonal(b, Block::Identity());
   factor_ = cholmod_analyze(matrix_, common_.get());
   if (!factor_) throw std::runtime_error("CHOLMOD analysis failed");
+  rhs_ = Eigen::VectorXd(n);
 }
 
 template <int D>
@@ -78,7 +128,8 @@ BlockCholesky<D>::~BlockCholesky() {
 
 template <int D>
 int BlockCholesky<D>::OffDiagonalSlot(int r, int c) const {
-  const int row = std::min(r, c), col = std::max(r, c);
+  const int pr = position_.at(r), pc = position_.at(c);
+  const int row = std::min(pr, pc), col = std::max(pr, pc);
   const auto& entries = slot_by_col_.at(col);
   const auto it = std::lower_bound(entries.begin(), entries.end(),
                                    std::make_pair(row, -1));
@@ -96,7 +147,7 @@ void BlockCholesky<D>::SetZero() {
 template <int D>
 void BlockCholesky<D>::AddDiagonal(int block, const Block& m) {
   auto* x = static_cast<double*>(matrix_->x);
-  const Slot& s = slots_[block];
+  const Slot& s = slots_[position_[block]];
   for (int k = 0; k < D; ++k) {
     for (int a = 0; a <= k; ++a) x[s.start[k] + a] += m(a, k);
   }
@@ -106,7 +157,7 @@ template <int D>
 void BlockCholesky<D>::AddOffDiagonal(int slot, int r, int c, const Block& m) {
   auto* x = static_cast<double*>(matrix_->x);
   const Slot& s = slots_[slot];
-  const bool transposed = r > c;
+  const bool transposed = position_[r] > position_[c];
   for (int k = 0; k < D; ++k) {
     for (int a = 0; a < D; ++a) {
       x[s.start[k] + a] += transposed ? m(k, a) : m(a, k);
@@ -120,19 +171,26 @@ bool BlockCholesky<D>::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) {
       common_->status == CHOLMOD_NOT_POSDEF) {
     return false;
   }
-  cholmod_dense b;
-  b.nrow = rhs.size();
-  b.ncol = 1;
-  b.nzmax = rhs.size();
-  b.d = rhs.size();
-  b.x = const_cast<double*>(rhs.data());
-  b.z = nullptr;
-  b.xtype = CHOLMOD_REAL;
-  b.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* sol = cholmod_solve(CHOLMOD_A, factor_, &b, common_.get());
+  for (int b = 0; b < num_blocks_; ++b) {
+    rhs_.template segment<D>(position_[b] * D) = rhs.template segment<D>(b * D);
+  }
+  cholmod_dense dense;
+  dense.nrow = rhs_.size();
+  dense.ncol = 1;
+  dense.nzmax = rhs_.size();
+  dense.d = rhs_.size();
+  dense.x = rhs_.data();
+  dense.z = nullptr;
+  dense.xtype = CHOLMOD_REAL;
+  dense.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* sol = cholmod_solve(CHOLMOD_A, factor_, &dense, common_.get());
   if (!sol) return false;
-  *x = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(sol->x),
-                                         rhs.size());
+  const auto* values = static_cast<const double*>(sol->x);
+  x->resize(rhs.size());
+  for (int b = 0; b < num_blocks_; ++b) {
+    x->template segment<D>(b * D) =
+        Eigen::Map<const Eigen::Matrix<double, D, 1>>(values + position_[b] * D);
+  }
   cholmod_free_dense(&sol, common_.get());
   return x->allFinite();
 }

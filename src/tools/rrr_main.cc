@@ -1,0 +1,28 @@
+// rrr: loop-closure verification of pose graphs from the command line.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "rrr: robust pose-graph back-end. Verifies loop closures with RRR "
+      "(Realizing, Reversing, Recovering) and removes the false ones."};
+  app.require_subcommand(1);
+  rrr::AddVerifyCommand(app);
+  rrr::AddOptimizeCommand(app);
+  rrr::AddSpoilCommand(app);
+  rrr::AddSimulateCommand(app);
+  rrr::AddEvaluateCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "rrr: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
