@@ -1,4 +1,243 @@
+// rrr evaluate: precision, recall and ATE of a verification against truth.
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
+#include "rrr/eval/ground_truth.h"
+#include "rrr/eval/loop_scores.h"
+#include "rrr/eval/trajectory_error.h"
+#include "rrr/io/g2o.h"
+#include "rrr/io/input_error.h"
+
 namespace rrr {
-void AddEvaluateCommand(CLI::App& app) { app.add_subcommand("evaluate", "todo"); }
+namespace {
+
+struct EvaluateArgs {
+  std::string report, map, graph, false_loops, labels, level, gt_g2o, gt_csv,
+      timestamps, json;
+  double max_dt = 0.25;
+};
+
+using Positions = std::map<PoseId, Eigen::VectorXd>;
+
+Positions PositionsOf(const AnyPoseGraph& graph) {
+  Positions out;
+  std::visit(
+      [&](const auto& g) {
+        for (int k = 0; k < g.num_poses(); ++k) {
+          out[g.ids()[k]] = g.estimates()[k].translation();
+        }
+      },
+      graph);
+  return out;
+}
+
+// Candidates of the report, each with whether it was accepted.
+std::vector<std::pair<LoopKey, bool>> ReadDecisions(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "cannot open file");
+  nlohmann::json report;
+  try {
+    report = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, 0, std::string("not a JSON report: ") + e.what());
+  }
+  std::vector<std::pair<LoopKey, bool>> out;
+  for (const auto& [field, accepted] : {std::pair{"accepted", true}, {"rejected", false}}) {
+    if (!report.contains(field) || !report[field].is_array()) {
+      throw InputError(path, 0, std::string("the report has no '") + field + "' list");
+    }
+    for (const auto& pair : report[field]) {
+      if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number_integer() ||
+          !pair[1].is_number_integer()) {
+        throw InputError(path, 0, std::string("'") + field +
+                                      "' holds an entry that is not [i, j]: " +
+                                      pair.dump());
+      }
+      out.push_back({{pair[0].get<PoseId>(), pair[1].get<PoseId>()}, accepted});
+    }
+  }
+  return out;
+}
+
+// The ground-truth trajectory as positions by pose id, if one was given.
+std::optional<Positions> TruePositions(const EvaluateArgs& args,
+                                       std::map<PoseId, Pose2>* planar) {
+  if (!args.gt_g2o.empty()) {
+    const G2oFile file = ReadG2o(args.gt_g2o);
+    if (const auto* g = std::get_if<PoseGraph2>(&file.graph)) {
+      for (int k = 0; k < g->num_poses(); ++k) (*planar)[g->ids()[k]] = g->estimates()[k];
+    }
+    return PositionsOf(file.graph);
+  }
+  if (!args.gt_csv.empty()) {
+    if (args.timestamps.empty()) {
+      throw CLI::ValidationError("evaluate", "--gt-csv needs --timestamps");
+    }
+    const auto stamped = ReadStampedPoses(args.gt_csv);
+    std::vector<double> gt_times;
+    for (const auto& s : stamped) gt_times.push_back(s.first);
+    const auto match = AssociateByTime(ReadTimestamps(args.timestamps), gt_times,
+                                       args.max_dt);
+    Positions out;
+    for (size_t id = 0; id < match.size(); ++id) {
+      if (match[id] < 0) continue;
+      const Pose2& p = stamped[match[id]].second;
+      (*planar)[static_cast<PoseId>(id)] = p;
+      out[static_cast<PoseId>(id)] = p.translation();
+    }
+    return out;
+  }
+  return std::nullopt;
+}
+
+void Evaluate(const EvaluateArgs& args) {
+  const auto decisions = ReadDecisions(args.report);
+  std::map<PoseId, Pose2> planar_truth;
+  const std::optional<Positions> truth = TruePositions(args, &planar_truth);
+
+  // Which candidates are correct, topologically and metrically.
+  std::vector<bool> accepted, topological, metric;
+  std::map<LoopKey, Pose2> measured;
+  if (args.false_loops.empty() && args.labels.empty()) {
+    if (args.graph.empty() || planar_truth.empty()) {
+      throw CLI::ValidationError(
+          "evaluate",
+          "say which loops are correct: --false-loops, --labels with --level, "
+          "or --graph with a planar --gt-g2o / --gt-csv");
+    }
+    const G2oFile input = ReadG2o(args.graph);
+    const auto* g = std::get_if<PoseGraph2>(&input.graph);
+    if (!g) throw InputError(args.graph, 0, "judging loops by ground truth needs a 2D graph");
+    for (const auto& e : g->loops()) {
+      measured.emplace(LoopKey{g->ids()[e.from], g->ids()[e.to]}, e.measurement);
+    }
+  }
+  const std::set<LoopKey> false_set =
+      args.false_loops.empty() ? std::set<LoopKey>() : ReadLoopList(args.false_loops);
+  const std::map<LoopKey, LoopLabel> labels =
+      args.labels.empty() ? std::map<LoopKey, LoopLabel>()
+                          : ReadLoopLabels(args.labels, args.level);
+  for (const auto& [key, is_accepted] : decisions) {
+    LoopLabel label;
+    if (!args.false_loops.empty()) {
+      label.topological = label.metric = !false_set.count(key);
+    } else if (!args.labels.empty()) {
+      const auto it = labels.find(key);
+      if (it == labels.end()) {
+        throw InputError(args.labels, 0, "no label for candidate " +
+                                             std::to_string(key.first) + " " +
+                                             std::to_string(key.second));
+      }
+      label = it->second;
+    } else {
+      const auto a = planar_truth.find(key.first), b = planar_truth.find(key.second);
+      const auto z = measured.find(key);
+      if (a == planar_truth.end() || b == planar_truth.end() || z == measured.end()) {
+        throw InputError(args.graph, 0, "no ground truth for candidate " +
+                                            std::to_string(key.first) + " " +
+                                            std::to_string(key.second));
+      }
+      label = JudgeLoop(z->second, a->second, b->second);
+    }
+    accepted.push_back(is_accepted);
+    topological.push_back(label.topological);
+    metric.push_back(label.metric);
+  }
+  const LoopScores top = ScoreLoops(accepted, topological);
+  const LoopScores met = ScoreLoops(accepted, metric);
+
+  nlohmann::json out;
+  out["candidates"] = top.candidates;
+  out["accepted"] = top.accepted;
+  out["correct_candidates"] = top.correct_candidates;
+  out["correct_accepted"] = top.correct_accepted;
+  out["precision"] = top.precision();
+  out["recall"] = top.recall();
+  out["metric_precision"] = met.precision();
+  out["metric_recall"] = met.recall();
+  std::cout << std::fixed << std::setprecision(3) << "candidates "
+            << top.candidates << ", accepted " << top.accepted << " ("
+            << top.correct_accepted << " correct of " << top.correct_candidates
+            << "), precision " << top.precision() << ", recall " << top.recall()
+            << "; metric rule: precision " << met.precision() << ", recall "
+            << met.recall();
+  if (!args.map.empty()) {
+    if (!truth) {
+      throw CLI::ValidationError("evaluate", "ATE needs --gt-g2o or --gt-csv");
+    }
+    const Positions estimate = PositionsOf(ReadG2o(args.map).graph);
+    std::vector<Eigen::VectorXd> est, ref;
+    for (const auto& [id, p] : estimate) {
+      const auto it = truth->find(id);
+      if (it != truth->end() && it->second.size() == p.size()) {
+        est.push_back(p);
+        ref.push_back(it->second);
+      }
+    }
+    if (est.empty()) throw InputError(args.map, 0, "no pose matches the ground truth");
+    Eigen::MatrixXd e(est[0].size(), est.size()), r(est[0].size(), est.size());
+    for (size_t k = 0; k < est.size(); ++k) {
+      e.col(k) = est[k];
+      r.col(k) = ref[k];
+    }
+    const double ate = AbsoluteTrajectoryError(e, r);
+    out["ate_rmse"] = ate;
+    out["ate_poses"] = est.size();
+    std::cout << "; ATE RMSE " << ate << " m over " << est.size() << " poses";
+  }
+  std::cout << "\n";
+  if (!args.json.empty()) {
+    std::ofstream f(args.json);
+    f << out.dump(1) << "\n";
+    if (!f) throw InputError(args.json, 0, "cannot write");
+  }
+}
+
+}  // namespace
+
+void AddEvaluateCommand(CLI::App& app) {
+  auto args = std::make_shared<EvaluateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "evaluate",
+      "Precision and recall of a verify report, and the ATE of its map, "
+      "against a ground truth.");
+  cmd->add_option("report", args->report, "JSON report of rrr verify")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--map", args->map, "optimized g2o of rrr verify (for ATE)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--false-loops", args->false_loops,
+                  "list of the false loops (rrr spoil / simulate --truth)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--labels", args->labels,
+                  "Bicocca labels_all_levels.txt (label or grey = correct)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--level", args->level, "confidence level of --labels, e.g. 0.150");
+  cmd->add_option("--gt-g2o", args->gt_g2o, "reference trajectory as g2o (same ids)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--gt-csv", args->gt_csv, "time-stamped ground truth: t, x, y, theta")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--timestamps", args->timestamps, "time of pose k on line k")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--max-dt", args->max_dt,
+                  "largest time difference of an associated ground-truth pose (s)")
+      ->capture_default_str();
+  cmd->add_option("--graph", args->graph,
+                  "the verified input g2o, to judge loops by the ground truth")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--json", args->json, "write the figures as JSON too");
+  cmd->callback([args] {
+    if (!args->labels.empty() && args->level.empty()) {
+      throw CLI::ValidationError("evaluate", "--labels needs --level");
+    }
+    Evaluate(*args);
+  });
+}
+
 }  // namespace rrr

@@ -1,4 +1,51 @@
+// rrr simulate: the built-in grid-city world, with its ground truth.
+#include <iostream>
+
 #include "commands.h"
+#include "rrr/eval/ground_truth.h"
+#include "rrr/io/g2o.h"
+#include "rrr/sim/grid_world.h"
+
 namespace rrr {
-void AddSimulateCommand(CLI::App& app) { app.add_subcommand("simulate", "todo"); }
+
+void AddSimulateCommand(CLI::App& app) {
+  auto options = std::make_shared<GridWorldOptions>();
+  auto output = std::make_shared<std::string>();
+  auto truth = std::make_shared<std::string>();
+  auto ground_truth = std::make_shared<std::string>();
+  CLI::App* cmd = app.add_subcommand(
+      "simulate",
+      "Make a synthetic grid-city world: a noisy odometry chain, true loops "
+      "at revisits and random false loops, with its ground truth.");
+  cmd->add_option("--poses", options->poses, "number of poses")
+      ->capture_default_str();
+  cmd->add_option("--false-loops", options->false_loops, "number of false loops")
+      ->capture_default_str();
+  cmd->add_option("--group", options->group, "false loops come in groups of G")
+      ->capture_default_str();
+  cmd->add_option("--seed", options->seed, "random seed")->capture_default_str();
+  cmd->add_option("-o,--output", *output, "g2o output")->required();
+  cmd->add_option("-t,--truth", *truth, "list of the false loops (i j)")
+      ->required();
+  cmd->add_option("--ground-truth", *ground_truth,
+                  "the true trajectory as g2o (vertices and odometry)")
+      ->required();
+  cmd->callback([=] {
+    const std::string problem = options->Validate();
+    if (!problem.empty()) throw CLI::ValidationError("simulate", problem);
+    const SimulatedWorld world = SimulateGridWorld(*options);
+    const auto& g = world.graph;
+    WriteG2oFile(g, g.estimates(), AllLoops(g), *output);
+    WriteG2oFile(g, world.truth, {}, *ground_truth);
+    std::vector<LoopKey> keys;
+    for (const int k : world.false_loops) {
+      keys.emplace_back(g.ids()[g.loops()[k].from], g.ids()[g.loops()[k].to]);
+    }
+    WriteLoopList(keys, "false loops of the simulated world", *truth);
+    std::cout << "simulated " << g.num_poses() << " poses, "
+              << g.loops().size() - world.false_loops.size() << " true and "
+              << world.false_loops.size() << " false loop candidates\n";
+  });
+}
+
 }  // namespace rrr

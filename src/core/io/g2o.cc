@@ -1,17 +1,14 @@
 #include "rrr/io/g2o.h"
 
-#include <cerrno>
-#include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <optional>
-#include <sstream>
 
 #include <Eigen/Cholesky>
 
 #include "rrr/io/input_error.h"
+#include "rrr/io/text_fields.h"
 
 namespace rrr {
 namespace {
@@ -27,62 +24,6 @@ struct PendingEdge {
   int line;
   PoseId from, to;
   std::vector<double> values;
-};
-
-// One line split into fields, with number parsing that reports its position.
-class Fields {
- public:
-  Fields(const std::string& text, const std::string& source, int line)
-      : source_(source), line_(line) {
-    std::istringstream s(text);
-    std::string f;
-    while (s >> f) fields_.push_back(f);
-  }
-  size_t size() const { return fields_.size(); }
-  const std::string& tag() const { return fields_[0]; }
-
-  void ExpectCount(size_t n) const {
-    if (fields_.size() != n) {
-      Fail(tag() + " needs " + std::to_string(n - 1) + " fields, found " +
-           std::to_string(fields_.size() - 1));
-    }
-  }
-  double Number(size_t k) const {
-    const std::string& f = fields_[k];
-    errno = 0;
-    char* end = nullptr;
-    const double v = std::strtod(f.c_str(), &end);
-    if (end == f.c_str() || *end != '\0' || errno == ERANGE) {
-      Fail("field " + std::to_string(k) + " '" + f + "' is not a number");
-    }
-    if (!std::isfinite(v)) {
-      Fail("field " + std::to_string(k) + " '" + f + "' is not finite");
-    }
-    return v;
-  }
-  PoseId Id(size_t k) const {
-    const std::string& f = fields_[k];
-    char* end = nullptr;
-    errno = 0;
-    const long long v = std::strtoll(f.c_str(), &end, 10);
-    if (end == f.c_str() || *end != '\0' || errno == ERANGE) {
-      Fail("field " + std::to_string(k) + " '" + f + "' is not a vertex id");
-    }
-    return v;
-  }
-  std::vector<double> Numbers(size_t first) const {
-    std::vector<double> v;
-    for (size_t k = first; k < fields_.size(); ++k) v.push_back(Number(k));
-    return v;
-  }
-  [[noreturn]] void Fail(const std::string& problem) const {
-    throw InputError(source_, line_, problem);
-  }
-
- private:
-  std::vector<std::string> fields_;
-  const std::string& source_;
-  int line_;
 };
 
 // Pose and information layouts of the two supported element types.
@@ -191,9 +132,9 @@ G2oFile ParseG2o(std::istream& in, const std::string& source) {
   std::vector<std::pair<int, PoseId>> fixed;
   std::map<std::string, int> skipped;
 
-  const auto set_dimension = [&dim](Dimension d, const Fields& f) {
+  const auto set_dimension = [&dim](Dimension d, const TextFields& f) {
     if (dim != Dimension::kUnknown && dim != d) {
-      f.Fail("mixes 2D and 3D elements: " + f.tag() + " in a " +
+      f.Fail("mixes 2D and 3D elements: " + f[0] + " in a " +
              (dim == Dimension::k2D ? "2D" : "3D") + " file");
     }
     dim = d;
@@ -203,17 +144,17 @@ G2oFile ParseG2o(std::istream& in, const std::string& source) {
   int line = 0;
   while (std::getline(in, text)) {
     ++line;
-    const Fields f(text, source, line);
-    if (f.size() == 0 || f.tag()[0] == '#') continue;
-    const std::string& tag = f.tag();
+    const TextFields f(text, source, line);
+    if (f.IsComment()) continue;
+    const std::string& tag = f[0];
     const bool is2d_vertex = tag == G2oTraits<Pose2>::kVertexTag;
     const bool is3d_vertex = tag == G2oTraits<Pose3>::kVertexTag;
     const bool is2d_edge = tag == G2oTraits<Pose2>::kEdgeTag;
     const bool is3d_edge = tag == G2oTraits<Pose3>::kEdgeTag;
     if (is2d_vertex || is3d_vertex) {
       set_dimension(is2d_vertex ? Dimension::k2D : Dimension::k3D, f);
-      f.ExpectCount(2 + (is2d_vertex ? 3 : 7));
-      const PoseId id = f.Id(1);
+      f.ExpectCount(2 + (is2d_vertex ? 3 : 7), tag);
+      const PoseId id = f.Integer(1);
       if (vertices.count(id)) {
         f.Fail("vertex " + std::to_string(id) + " is defined twice (first on line " +
                std::to_string(vertices[id].line) + ")");
@@ -221,11 +162,12 @@ G2oFile ParseG2o(std::istream& in, const std::string& source) {
       vertices[id] = PendingVertex{line, f.Numbers(2)};
     } else if (is2d_edge || is3d_edge) {
       set_dimension(is2d_edge ? Dimension::k2D : Dimension::k3D, f);
-      f.ExpectCount(3 + (is2d_edge ? 3 + 6 : 7 + 21));
-      edges.push_back(PendingEdge{line, f.Id(1), f.Id(2), f.Numbers(3)});
+      f.ExpectCount(3 + (is2d_edge ? 3 + 6 : 7 + 21), tag);
+      edges.push_back(
+          PendingEdge{line, f.Integer(1), f.Integer(2), f.Numbers(3)});
     } else if (tag == "FIX") {
       if (f.size() < 2) f.Fail("FIX needs at least one vertex id");
-      for (size_t k = 1; k < f.size(); ++k) fixed.emplace_back(line, f.Id(k));
+      for (size_t k = 1; k < f.size(); ++k) fixed.emplace_back(line, f.Integer(k));
     } else {
       ++skipped[tag];
     }

@@ -97,13 +97,13 @@ TEST(G2o, ReadsFix) {
 
 TEST(G2o, ErrorsNameFileLineAndProblem) {
   EXPECT_THAT(ErrorOf("VERTEX_SE2 0 0 0\n"),
-              HasSubstr("test.g2o:1: VERTEX_SE2 needs 4 fields, found 3"));
+              HasSubstr("test.g2o:1: VERTEX_SE2 needs 5 fields, found 4"));
   EXPECT_THAT(ErrorOf("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 x 0 0\n"),
               HasSubstr("test.g2o:2: field 2 'x' is not a number"));
   EXPECT_THAT(ErrorOf("VERTEX_SE2 0 0 nan 0\n"),
               HasSubstr("test.g2o:1: field 3 'nan' is not finite"));
   EXPECT_THAT(ErrorOf("VERTEX_SE2 0.5 0 0 0\n"),
-              HasSubstr("test.g2o:1: field 1 '0.5' is not a vertex id"));
+              HasSubstr("test.g2o:1: field 1 '0.5' is not an integer id"));
   EXPECT_THAT(ErrorOf("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 0 0 0 0\n"),
               HasSubstr("test.g2o:2: vertex 0 is defined twice"));
   EXPECT_THAT(

@@ -1,0 +1,39 @@
+// Spoiling a pose graph with false loop closures (BENCHMARKS.md).
+#ifndef RRR_SIM_FALSE_LOOPS_H_
+#define RRR_SIM_FALSE_LOOPS_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rrr/graph/pose_graph.h"
+
+namespace rrr {
+
+struct FalseLoopOptions {
+  int count = 100;
+  // Local: the second pose within `local_range` poses of the first.
+  bool local = false;
+  int local_range = 20;
+  // Groups of `group` consecutive false loops (i+k, j+k), k = 0..group-1,
+  // which look like a real revisit.
+  int group = 1;
+  std::uint64_t seed = 1;
+
+  // Empty if usable for a graph of `num_poses` poses, else the problem.
+  std::string Validate(int num_poses) const;
+};
+
+// Adds `options.count` false loops between pose pairs drawn uniformly at
+// random (|i - j| > 1), with a measurement drawn from x, y (, z) ~ N(0, 0.3 m)
+// and each rotation angle ~ N(0, 10°), and the information matrix of the
+// graph's first loop (of its first odometry edge if it has no loop). Returns
+// the indices in graph->loops() of the added loops. The same seed gives the
+// same loops. Throws std::invalid_argument if the options do not validate.
+template <class Pose>
+std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
+                               const FalseLoopOptions& options);
+
+}  // namespace rrr
+
+#endif  // RRR_SIM_FALSE_LOOPS_H_

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Runs every test of the package (unit, tool and integration tests) in the
+# build made by scripts/setup.sh; exits non-zero if any test fails.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+export PATH=/usr/bin:$PATH
+export ROS_HOME=${ROS_HOME:-$(mktemp -d)} ROS_HOSTNAME=localhost
+rm -rf build/test_results
+# run_tests always exits 0; catkin_test_results tells the truth.
+cmake --build build --target run_tests -- -j1 >build/run_tests.log 2>&1
+summary=$(catkin_test_results build/test_results --verbose)
+status=$?
+echo "$summary" | tail -40
+echo "(full test output: build/run_tests.log)"
+# The plain closing line, counted from the JUnit files (catkin's summary counts
+# each gtest case twice).
+total=$(cat build/test_results/*/*.xml | grep -c '<testcase ' || true)
+failed=$(cat build/test_results/*/*.xml | grep -cE '<(failure|error)[ >]' || true)
+skipped=$(cat build/test_results/*/*.xml | grep -cE '<skipped' || true)
+echo "tests: $((total - failed - skipped)) passed, $failed failed, $skipped skipped"
+exit $status

@@ -1,0 +1,60 @@
+// Batch RRR on the real Bicocca 25b data, when the datasets are present
+// (RRR_DATASETS, default ../shared/datasets beside the source tree).
+#include <cstdlib>
+#include <fstream>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "rrr/eval/ground_truth.h"
+#include "rrr/eval/loop_scores.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/batch_verifier.h"
+#include "rrr/solver/gauss_newton.h"
+
+namespace rrr {
+namespace {
+
+std::string DatasetDir() {
+  const char* env = std::getenv("RRR_DATASETS");
+  return env ? env : std::string(RRR_SOURCE_DIR) + "/../shared/datasets";
+}
+
+class BicoccaTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BicoccaTest, FullPrecisionAndAtLeastTheReferenceRecall) {
+  const std::string dir = DatasetDir() + "/bicocca25b/";
+  const std::string level = GetParam();
+  const std::string path = dir + "B25b_" + level + ".g2o";
+  if (!std::ifstream(path)) {
+    GTEST_SKIP() << "Bicocca 25b not found at " << path
+                 << " (set RRR_DATASETS to the datasets folder)";
+  }
+  const auto graph = std::get<PoseGraph2>(ReadG2o(path).graph);
+  GaussNewton<Pose2> solver(graph, 4);
+  RrrOptions options;
+  options.cluster_window = 50;
+  const Verdict v = VerifyBatch(LoopEnds(graph), solver, options);
+  const auto labels = ReadLoopLabels(dir + "labels_all_levels.txt", level);
+  const auto reference = ReadLoopList(dir + "reference_rrr_accepted/" + level + ".txt");
+  std::vector<bool> accepted(graph.loops().size()), correct(graph.loops().size()),
+      reference_accepted(graph.loops().size());
+  for (const int k : v.accepted) accepted[k] = true;
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const LoopKey key{graph.ids()[graph.loops()[k].from],
+                      graph.ids()[graph.loops()[k].to]};
+    correct[k] = labels.at(key).topological;
+    reference_accepted[k] = reference.count(key) > 0;
+  }
+  const LoopScores ours = ScoreLoops(accepted, correct);
+  const LoopScores theirs = ScoreLoops(reference_accepted, correct);
+  EXPECT_EQ(ours.precision(), 1.0) << "level " << level;
+  EXPECT_GE(ours.recall(), theirs.recall()) << "level " << level;
+}
+
+INSTANTIATE_TEST_SUITE_P(Levels, BicoccaTest,
+                         ::testing::Values("0.000", "0.150", "0.175", "0.500",
+                                           "1.000"));
+
+}  // namespace
+}  // namespace rrr

@@ -1,0 +1,85 @@
+#include "rrr/sim/false_loops.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+
+namespace rrr {
+namespace {
+
+constexpr double kTranslationSigma = 0.3;
+constexpr double kAngleSigma = 10.0 * M_PI / 180.0;
+
+Pose2 RandomMeasurement(std::mt19937_64& rng, const Pose2*) {
+  std::normal_distribution<double> t(0.0, kTranslationSigma), a(0.0, kAngleSigma);
+  const double x = t(rng), y = t(rng);
+  return Pose2(x, y, a(rng));
+}
+
+Pose3 RandomMeasurement(std::mt19937_64& rng, const Pose3*) {
+  std::normal_distribution<double> t(0.0, kTranslationSigma), a(0.0, kAngleSigma);
+  Eigen::Vector3d translation;
+  for (int k = 0; k < 3; ++k) translation[k] = t(rng);
+  const double roll = a(rng), pitch = a(rng), yaw = a(rng);
+  const Eigen::Quaterniond q =
+      Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+  return Pose3(q, translation);
+}
+
+}  // namespace
+
+std::string FalseLoopOptions::Validate(int num_poses) const {
+  if (count < 0) return "the number of false loops must not be negative";
+  if (group < 1) return "the group size must be at least 1";
+  if (local_range < 2) return "the local range must be at least 2";
+  if (num_poses < group + 3) {
+    return "the graph has too few poses (" + std::to_string(num_poses) +
+           ") for groups of " + std::to_string(group);
+  }
+  return "";
+}
+
+template <class Pose>
+std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
+                               const FalseLoopOptions& options) {
+  const int n = graph->num_poses();
+  const std::string problem = options.Validate(n);
+  if (!problem.empty()) throw std::invalid_argument(problem);
+  const auto information = graph->loops().empty()
+                               ? graph->odometry().at(0).information
+                               : graph->loops().front().information;
+  std::mt19937_64 rng(options.seed);
+  // The first pose of a group leaves room for the group's other members.
+  const int last_start = n - options.group;
+  std::uniform_int_distribution<int> any(0, last_start - 1);
+  std::uniform_int_distribution<int> offset(-options.local_range,
+                                            options.local_range);
+  std::vector<int> added;
+  while (static_cast<int>(added.size()) < options.count) {
+    const int i = any(rng);
+    const int j = options.local ? i + offset(rng) : any(rng);
+    if (j < 0 || j >= last_start || std::abs(i - j) <= 1) continue;
+    for (int k = 0; k < options.group &&
+                    static_cast<int>(added.size()) < options.count;
+         ++k) {
+      Constraint<Pose> loop;
+      loop.from = i + k;
+      loop.to = j + k;
+      loop.measurement = RandomMeasurement(rng, static_cast<const Pose*>(nullptr));
+      loop.information = information;
+      graph->AddEdge(loop);
+      added.push_back(static_cast<int>(graph->loops().size()) - 1);
+    }
+  }
+  return added;
+}
+
+template std::vector<int> AddFalseLoops(PoseGraph<Pose2>*, const FalseLoopOptions&);
+template std::vector<int> AddFalseLoops(PoseGraph<Pose3>*, const FalseLoopOptions&);
+
+}  // namespace rrr

@@ -1,0 +1,96 @@
+// The false-loop generator and the grid world.
+#include <gtest/gtest.h>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/sim/false_loops.h"
+#include "rrr/sim/grid_world.h"
+
+namespace rrr {
+namespace {
+
+PoseGraph<Pose2> Chain(int n) {
+  PoseGraph<Pose2> g;
+  for (int k = 0; k < n; ++k) g.AddPose(k, Pose2(k, 0, 0));
+  Constraint<Pose2> e;
+  for (int k = 0; k + 1 < n; ++k) {
+    e.from = k;
+    e.to = k + 1;
+    e.measurement = Pose2(1, 0, 0);
+    g.AddEdge(e);
+  }
+  return g;
+}
+
+TEST(AddFalseLoops, AddsNonOdometryLoopsReproducibly) {
+  auto a = Chain(200), b = Chain(200);
+  FalseLoopOptions options;
+  options.count = 50;
+  options.seed = 9;
+  const auto added = AddFalseLoops(&a, options);
+  AddFalseLoops(&b, options);
+  ASSERT_EQ(added.size(), 50u);
+  ASSERT_EQ(a.loops().size(), 50u);
+  for (size_t k = 0; k < a.loops().size(); ++k) {
+    EXPECT_GT(std::abs(a.loops()[k].from - a.loops()[k].to), 1);
+    EXPECT_EQ(a.loops()[k].from, b.loops()[k].from);
+    EXPECT_EQ(a.loops()[k].measurement.x(), b.loops()[k].measurement.x());
+  }
+  EXPECT_TRUE(a.odometry().size() == 199u);
+}
+
+TEST(AddFalseLoops, LocalAndGroupedVariants) {
+  auto g = Chain(300);
+  FalseLoopOptions options;
+  options.count = 40;
+  options.local = true;
+  options.group = 4;
+  const auto added = AddFalseLoops(&g, options);
+  ASSERT_EQ(added.size(), 40u);
+  for (size_t k = 0; k < added.size(); ++k) {
+    const auto& loop = g.loops()[added[k]];
+    EXPECT_LE(std::abs(loop.from - loop.to), 20);
+    if (k % 4 != 0) {  // consecutive within a group
+      EXPECT_EQ(loop.from, g.loops()[added[k - 1]].from + 1);
+      EXPECT_EQ(loop.to, g.loops()[added[k - 1]].to + 1);
+    }
+  }
+}
+
+TEST(AddFalseLoops, Works3DAndRejectsBadOptions) {
+  PoseGraph<Pose3> g;
+  for (int k = 0; k < 50; ++k) g.AddPose(k, Pose3());
+  Constraint<Pose3> e;
+  for (int k = 0; k + 1 < 50; ++k) {
+    e.from = k;
+    e.to = k + 1;
+    g.AddEdge(e);
+  }
+  FalseLoopOptions options;
+  options.count = 10;
+  EXPECT_EQ(AddFalseLoops(&g, options).size(), 10u);
+  options.group = 0;
+  EXPECT_THROW(AddFalseLoops(&g, options), std::invalid_argument);
+}
+
+TEST(SimulateGridWorld, OdometryIsNoisyTruthAndLoopsAreTrue) {
+  GridWorldOptions options;
+  options.poses = 600;
+  options.false_loops = 10;
+  const SimulatedWorld w = SimulateGridWorld(options);
+  EXPECT_EQ(w.graph.num_poses(), 600);
+  EXPECT_EQ(w.graph.CheckChain(), "");
+  EXPECT_EQ(w.false_loops.size(), 10u);
+  ASSERT_GT(w.graph.loops().size(), 20u);
+  // True loops measure the true relative pose up to odometry-sized noise.
+  for (size_t k = 0; k < w.graph.loops().size() - 10; ++k) {
+    const auto& l = w.graph.loops()[k];
+    const Pose2 err = w.truth[l.from].between(w.truth[l.to]).between(l.measurement);
+    EXPECT_LT(err.translation().norm(), 0.2);
+  }
+  EXPECT_EQ(SimulateGridWorld(options).graph.loops()[3].from,
+            w.graph.loops()[3].from);
+}
+
+}  // namespace
+}  // namespace rrr
