@@ -48,8 +48,12 @@ class Pose2 {
   static Jacobian RightJacobianInverse(const Tangent& xi);
 
  private:
+  // With cos and sin of theta known (composition needs no trigonometry).
+  Pose2(const Translation& t, double theta, double cos, double sin);
+
   Translation t_ = Translation::Zero();
   double theta_ = 0.0;
+  double cos_ = 1.0, sin_ = 0.0;
 };
 
 }  // namespace rrr

@@ -1,96 +1,145 @@
 #include "rrr/solver/gauss_newton.h"
 
-#include <cmath>
+#include <algorithm>
 #include <limits>
+#include <memory>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/solver/block_cholesky.h"
 #include "rrr/solver/edge_error.h"
 
 namespace rrr {
 
+// The linear system of one solve: poses 0..num_poses-1 (a prefix of the
+// chain), the odometry edges among them and the active loops.
 template <class Pose>
-GaussNewton<Pose>::GaussNewton(const PoseGraph<Pose>& graph, int iterations)
-    : graph_(graph),
-      iterations_(iterations),
-      initial_(graph.ComposeOdometry()),
-      block_of_pose_(graph.num_poses(), 0) {
-  block_of_pose_[0] = -1;
-  for (const int k : graph.fixed()) block_of_pose_[k] = -1;
-  int blocks = 0;
-  for (int& b : block_of_pose_) b = (b < 0) ? -1 : blocks++;
+class GaussNewton<Pose>::Problem {
+ public:
+  static constexpr int D = Pose::kDof;
 
-  std::vector<std::pair<int, int>> pattern;
-  for (const auto* edges : {&graph.odometry(), &graph.loops()}) {
-    for (const auto& e : *edges) {
-      const int a = block_of_pose_[e.from], b = block_of_pose_[e.to];
+  Problem(const PoseGraph<Pose>& graph, const std::vector<int>& active_loops,
+          int num_poses)
+      : num_poses_(num_poses), block_of_pose_(num_poses, 0) {
+    block_of_pose_[0] = -1;
+    for (const int k : graph.fixed()) {
+      if (k < num_poses) block_of_pose_[k] = -1;
+    }
+    int blocks = 0;
+    for (int& b : block_of_pose_) b = (b < 0) ? -1 : blocks++;
+    for (const auto& e : graph.odometry()) {
+      if (std::max(e.from, e.to) < num_poses) edges_.push_back(&e);
+    }
+    for (const int k : active_loops) edges_.push_back(&graph.loops()[k]);
+    std::vector<std::pair<int, int>> pattern;
+    for (const auto* e : edges_) {
+      const int a = block_of_pose_[e->from], b = block_of_pose_[e->to];
       if (a >= 0 && b >= 0) pattern.emplace_back(a, b);
     }
+    system_ = std::make_unique<BlockCholesky<D>>(blocks, pattern);
+    for (const auto* e : edges_) {
+      Slots s{block_of_pose_[e->from], block_of_pose_[e->to], -1};
+      if (s.from >= 0 && s.to >= 0) {
+        s.off_diagonal = system_->OffDiagonalSlot(s.from, s.to);
+      }
+      slots_.push_back(s);
+    }
+    rhs_.resize(static_cast<Eigen::Index>(blocks) * D);
   }
-  system_ = std::make_unique<BlockCholesky<Pose::kDof>>(blocks, pattern);
-  for (const auto& e : graph.odometry()) odometry_slots_.push_back(SlotsOf(e));
-  for (const auto& e : graph.loops()) loop_slots_.push_back(SlotsOf(e));
-}
 
-template <class Pose>
-GaussNewton<Pose>::~GaussNewton() = default;
+  // One Gauss–Newton step on `x`; false if the system is not solvable.
+  bool Step(std::vector<Pose>* x) {
+    system_->SetZero();
+    rhs_.setZero();
+    for (size_t k = 0; k < edges_.size(); ++k) Accumulate(*edges_[k], slots_[k], *x);
+    if (!system_->Solve(rhs_, &delta_)) return false;
+    for (int p = 0; p < num_poses_; ++p) {
+      const int b = block_of_pose_[p];
+      if (b >= 0) (*x)[p] = (*x)[p] * Pose::Exp(delta_.template segment<D>(b * D));
+    }
+    return true;
+  }
 
-template <class Pose>
-typename GaussNewton<Pose>::EdgeSlots GaussNewton<Pose>::SlotsOf(
-    const Constraint<Pose>& edge) const {
-  EdgeSlots s{block_of_pose_[edge.from], block_of_pose_[edge.to], -1};
-  if (s.block_from >= 0 && s.block_to >= 0) {
-    s.off_diagonal = system_->OffDiagonalSlot(s.block_from, s.block_to);
-  }
-  return s;
-}
+ private:
+  struct Slots {
+    int from, to;      // blocks, -1 for fixed poses
+    int off_diagonal;  // -1 if either pose is fixed
+  };
 
-template <class Pose>
-void GaussNewton<Pose>::Accumulate(const Constraint<Pose>& edge,
-                                   const EdgeSlots& slots,
-                                   const std::vector<Pose>& x,
-                                   Eigen::VectorXd* rhs) {
-  constexpr int D = Pose::kDof;
-  typename Pose::Jacobian ji, jj;
-  const typename Pose::Tangent r = EdgeResidualAndJacobians(
-      edge.measurement, x[edge.from], x[edge.to], &ji, &jj);
-  const typename Pose::Jacobian wi = ji.transpose() * edge.information;
-  const typename Pose::Jacobian wj = jj.transpose() * edge.information;
-  if (slots.block_from >= 0) {
-    system_->AddDiagonal(slots.block_from, wi * ji);
-    rhs->template segment<D>(slots.block_from * D) -= wi * r;
-  }
-  if (slots.block_to >= 0) {
-    system_->AddDiagonal(slots.block_to, wj * jj);
-    rhs->template segment<D>(slots.block_to * D) -= wj * r;
-  }
-  if (slots.off_diagonal >= 0) {
-    system_->AddOffDiagonal(slots.off_diagonal, slots.block_from,
-                            slots.block_to, wi * jj);
-  }
-}
-
-template <class Pose>
-bool GaussNewton<Pose>::Step(const std::vector<int>& active_loops,
-                             std::vector<Pose>* x) {
-  constexpr int D = Pose::kDof;
-  system_->SetZero();
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(system_->num_blocks() * D);
-  const auto& odometry = graph_.odometry();
-  for (size_t k = 0; k < odometry.size(); ++k) {
-    Accumulate(odometry[k], odometry_slots_[k], *x, &rhs);
-  }
-  for (const int k : active_loops) {
-    Accumulate(graph_.loops()[k], loop_slots_[k], *x, &rhs);
-  }
-  Eigen::VectorXd delta;
-  if (!system_->Solve(rhs, &delta)) return false;
-  for (int p = 0; p < graph_.num_poses(); ++p) {
-    const int b = block_of_pose_[p];
-    if (b >= 0) {
-      (*x)[p] = (*x)[p] * Pose::Exp(delta.template segment<D>(b * D));
+  void Accumulate(const Constraint<Pose>& edge, const Slots& slots,
+                  const std::vector<Pose>& x) {
+    typename Pose::Jacobian ji, jj;
+    const typename Pose::Tangent r = EdgeResidualAndJacobians(
+        edge.measurement, x[edge.from], x[edge.to], &ji, &jj);
+    const typename Pose::Jacobian wi = ji.transpose() * edge.information;
+    const typename Pose::Jacobian wj = jj.transpose() * edge.information;
+    if (slots.from >= 0) {
+      system_->AddDiagonal(slots.from, wi * ji);
+      rhs_.template segment<D>(slots.from * D) -= wi * r;
+    }
+    if (slots.to >= 0) {
+      system_->AddDiagonal(slots.to, wj * jj);
+      rhs_.template segment<D>(slots.to * D) -= wj * r;
+    }
+    if (slots.off_diagonal >= 0) {
+      system_->AddOffDiagonal(slots.off_diagonal, slots.from, slots.to, wi * jj);
     }
   }
+
+  int num_poses_;
+  std::vector<int> block_of_pose_;
+  std::vector<const Constraint<Pose>*> edges_;
+  std::vector<Slots> slots_;
+  std::unique_ptr<BlockCholesky<D>> system_;
+  Eigen::VectorXd rhs_, delta_;
+};
+
+template <class Pose>
+GaussNewton<Pose>::GaussNewton(const PoseGraph<Pose>& graph, int iterations)
+    : graph_(graph), iterations_(iterations), initial_(graph.ComposeOdometry()) {
+  for (const int k : graph.fixed()) last_fixed_ = std::max(last_fixed_, k);
+}
+
+template <class Pose>
+bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
+                            int max_iterations, const ConvergenceOptions* options,
+                            std::vector<Pose>* x, int* iterations_run) const {
+  *x = initial_;
+  if (iterations_run) *iterations_run = 0;
+  // The last pose that an active loop or a fixed pose constrains; the chain
+  // after it follows odometry with zero error.
+  int last = last_fixed_;
+  for (const int k : active_loops) {
+    last = std::max({last, graph_.loops()[k].from, graph_.loops()[k].to});
+  }
+  if (last == 0) return true;
+  Problem problem(graph_, active_loops, last + 1);
+  // Carries the free end of the chain along with its last constrained pose.
+  const auto carry_tail = [&](std::vector<Pose>* y) {
+    for (int p = last + 1; p < graph_.num_poses(); ++p) {
+      (*y)[p] = (*y)[last] * initial_[last].between(initial_[p]);
+    }
+  };
+  double chi2 = options ? Evaluate(active_loops, *x).total_chi2 : 0.0;
+  std::vector<Pose> next;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (!options) {  // a fixed number of steps, in place
+      if (!problem.Step(x)) return false;
+      if (iterations_run) ++*iterations_run;
+      continue;
+    }
+    next = *x;
+    if (!problem.Step(&next)) return false;
+    if (iterations_run) ++*iterations_run;
+    carry_tail(&next);
+    const double next_chi2 = Evaluate(active_loops, next).total_chi2;
+    if (!(next_chi2 <= chi2)) break;  // diverging: keep the best estimate
+    const double decrease = chi2 - next_chi2;
+    chi2 = next_chi2;
+    x->swap(next);
+    if (decrease <= options->relative_decrease * chi2) break;
+  }
+  carry_tail(x);
   return true;
 }
 
@@ -111,17 +160,15 @@ SubsetErrors GaussNewton<Pose>::Evaluate(const std::vector<int>& active_loops,
 
 template <class Pose>
 SubsetErrors GaussNewton<Pose>::Solve(const std::vector<int>& active_loops) {
-  std::vector<Pose> x = initial_;
-  for (int it = 0; it < iterations_; ++it) {
-    if (!Step(active_loops, &x)) {
-      SubsetErrors failed;
-      failed.solved = false;
-      failed.num_edges =
-          static_cast<int>(graph_.odometry().size() + active_loops.size());
-      failed.total_chi2 = std::numeric_limits<double>::infinity();
-      failed.loop_chi2.assign(active_loops.size(), failed.total_chi2);
-      return failed;
-    }
+  std::vector<Pose> x;
+  if (!Run(active_loops, iterations_, nullptr, &x, nullptr)) {
+    SubsetErrors failed;
+    failed.solved = false;
+    failed.num_edges =
+        static_cast<int>(graph_.odometry().size() + active_loops.size());
+    failed.total_chi2 = std::numeric_limits<double>::infinity();
+    failed.loop_chi2.assign(active_loops.size(), failed.total_chi2);
+    return failed;
   }
   return Evaluate(active_loops, x);
 }
@@ -129,22 +176,9 @@ SubsetErrors GaussNewton<Pose>::Solve(const std::vector<int>& active_loops) {
 template <class Pose>
 std::vector<Pose> GaussNewton<Pose>::Optimize(
     const std::vector<int>& active_loops, const ConvergenceOptions& options,
-    int* iterations_run) {
-  std::vector<Pose> x = initial_;
-  double chi2 = Evaluate(active_loops, x).total_chi2;
-  int it = 0;
-  while (it < options.max_iterations) {
-    std::vector<Pose> next = x;
-    if (!Step(active_loops, &next)) break;
-    ++it;
-    const double next_chi2 = Evaluate(active_loops, next).total_chi2;
-    if (!(next_chi2 <= chi2)) break;  // diverging: keep the best estimate
-    x.swap(next);
-    const double decrease = chi2 - next_chi2;
-    chi2 = next_chi2;
-    if (decrease <= options.relative_decrease * chi2) break;
-  }
-  if (iterations_run) *iterations_run = it;
+    int* iterations_run) const {
+  std::vector<Pose> x;
+  Run(active_loops, options.max_iterations, &options, &x, iterations_run);
   return x;
 }
 
