@@ -1,4 +1,6 @@
 // rrr: loop-closure verification of pose graphs from the command line.
+#include <malloc.h>
+
 #include <exception>
 #include <iostream>
 
@@ -7,6 +9,11 @@
 #include "commands.h"
 
 int main(int argc, char** argv) {
+  // RRR sets up and frees thousands of sparse problems; keeping freed memory
+  // in the process instead of returning it to the kernel saves a page fault
+  // per touched page on every solve (a third of the run time on large graphs).
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{
       "rrr: robust pose-graph back-end. Verifies loop closures with RRR "
       "(Realizing, Reversing, Recovering) and removes the false ones."};

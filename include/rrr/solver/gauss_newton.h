@@ -19,12 +19,12 @@ struct ConvergenceOptions {
 // Gauss–Newton on the sparse normal equations (CHOLMOD), with the first pose
 // (and any pose the graph marks fixed) held fixed.
 //
-// Each solve sets up only the problem its active loops make: the odometry
-// chain up to the last pose that an active loop (or a fixed pose) reaches,
-// plus those loops. The poses after it hang off the chain, follow odometry
-// exactly and add zero error, so the answer equals that of the whole graph.
-// The sparsity pattern of that problem is ordered and analysed once per
-// solve and refactorized numerically at each iteration.
+// Each solve sets up only the problem its active loops make: the stretch of
+// odometry chain between the first and the last pose they reach, plus those
+// loops, with the first of them held fixed. The rest of the chain keeps its
+// odometry shape and adds zero error (see Run), so the errors equal those of
+// the whole graph. The sparsity pattern of that problem is ordered and
+// analysed once per solve and refactorized numerically at each iteration.
 //
 // Solve() and Optimize() do not modify the solver and may run concurrently.
 // The graph must outlive the solver and must not change while it exists.

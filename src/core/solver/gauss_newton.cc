@@ -11,34 +11,36 @@
 
 namespace rrr {
 
-// The linear system of one solve: poses 0..num_poses-1 (a prefix of the
-// chain), the odometry edges among them and the active loops.
+// The linear system of one solve: the stretch of chain poses first..last
+// with `first` held fixed, the odometry edges among them and the active loops.
 template <class Pose>
 class GaussNewton<Pose>::Problem {
  public:
   static constexpr int D = Pose::kDof;
 
   Problem(const PoseGraph<Pose>& graph, const std::vector<int>& active_loops,
-          int num_poses)
-      : num_poses_(num_poses), block_of_pose_(num_poses, 0) {
+          int first, int last)
+      : first_(first), block_of_pose_(last - first + 1, 0) {
     block_of_pose_[0] = -1;
     for (const int k : graph.fixed()) {
-      if (k < num_poses) block_of_pose_[k] = -1;
+      if (k >= first && k <= last) block_of_pose_[k - first] = -1;
     }
     int blocks = 0;
     for (int& b : block_of_pose_) b = (b < 0) ? -1 : blocks++;
     for (const auto& e : graph.odometry()) {
-      if (std::max(e.from, e.to) < num_poses) edges_.push_back(&e);
+      if (std::min(e.from, e.to) >= first && std::max(e.from, e.to) <= last) {
+        edges_.push_back(&e);
+      }
     }
     for (const int k : active_loops) edges_.push_back(&graph.loops()[k]);
     std::vector<std::pair<int, int>> pattern;
     for (const auto* e : edges_) {
-      const int a = block_of_pose_[e->from], b = block_of_pose_[e->to];
+      const int a = BlockOf(e->from), b = BlockOf(e->to);
       if (a >= 0 && b >= 0) pattern.emplace_back(a, b);
     }
     system_ = std::make_unique<BlockCholesky<D>>(blocks, pattern);
     for (const auto* e : edges_) {
-      Slots s{block_of_pose_[e->from], block_of_pose_[e->to], -1};
+      Slots s{BlockOf(e->from), BlockOf(e->to), -1};
       if (s.from >= 0 && s.to >= 0) {
         s.off_diagonal = system_->OffDiagonalSlot(s.from, s.to);
       }
@@ -53,14 +55,19 @@ class GaussNewton<Pose>::Problem {
     rhs_.setZero();
     for (size_t k = 0; k < edges_.size(); ++k) Accumulate(*edges_[k], slots_[k], *x);
     if (!system_->Solve(rhs_, &delta_)) return false;
-    for (int p = 0; p < num_poses_; ++p) {
+    for (size_t p = 0; p < block_of_pose_.size(); ++p) {
       const int b = block_of_pose_[p];
-      if (b >= 0) (*x)[p] = (*x)[p] * Pose::Exp(delta_.template segment<D>(b * D));
+      if (b >= 0) {
+        (*x)[first_ + p] =
+            (*x)[first_ + p] * Pose::Exp(delta_.template segment<D>(b * D));
+      }
     }
     return true;
   }
 
  private:
+  int BlockOf(int pose) const { return block_of_pose_[pose - first_]; }
+
   struct Slots {
     int from, to;      // blocks, -1 for fixed poses
     int off_diagonal;  // -1 if either pose is fixed
@@ -86,8 +93,8 @@ class GaussNewton<Pose>::Problem {
     }
   }
 
-  int num_poses_;
-  std::vector<int> block_of_pose_;
+  int first_;
+  std::vector<int> block_of_pose_;  // of poses first..last
   std::vector<const Constraint<Pose>*> edges_;
   std::vector<Slots> slots_;
   std::unique_ptr<BlockCholesky<D>> system_;
@@ -106,14 +113,21 @@ bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
                             std::vector<Pose>* x, int* iterations_run) const {
   *x = initial_;
   if (iterations_run) *iterations_run = 0;
-  // The last pose that an active loop or a fixed pose constrains; the chain
-  // after it follows odometry with zero error.
+  // The stretch of chain that the active loops (and fixed poses) span. The
+  // chain after it hangs free and follows odometry with zero error. The
+  // chain before it is a rigid path from the fixed first pose: relative-pose
+  // errors do not change under a rigid motion of the rest, so every
+  // Gauss–Newton step leaves that path at odometry with zero error, exactly
+  // as if its last pose were fixed.
+  int first = last_fixed_ > 0 ? 0 : graph_.num_poses() - 1;
   int last = last_fixed_;
   for (const int k : active_loops) {
-    last = std::max({last, graph_.loops()[k].from, graph_.loops()[k].to});
+    const auto& loop = graph_.loops()[k];
+    first = std::min({first, loop.from, loop.to});
+    last = std::max({last, loop.from, loop.to});
   }
-  if (last == 0) return true;
-  Problem problem(graph_, active_loops, last + 1);
+  if (last <= first) return true;
+  Problem problem(graph_, active_loops, first, last);
   // Carries the free end of the chain along with its last constrained pose.
   const auto carry_tail = [&](std::vector<Pose>* y) {
     for (int p = last + 1; p < graph_.num_poses(); ++p) {

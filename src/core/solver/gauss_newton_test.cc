@@ -1,6 +1,7 @@
 #include "rrr/solver/gauss_newton.h"
 
 #include <random>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -113,6 +114,77 @@ TEST(GaussNewton, ConvergesToAStationaryPointIn3D) {
   }
   // The first pose stays where odometry put it.
   EXPECT_LT(x[0].between(truth[0]).Log().norm(), 1e-12);
+}
+
+// The plain method, independently: dense Gauss–Newton over every pose but
+// the first, from odometry, for k iterations; returns the total error.
+template <class Pose>
+double DenseSolve(const PoseGraph<Pose>& g, const std::vector<int>& loops,
+                  int k) {
+  constexpr int D = Pose::kDof;
+  std::vector<const Constraint<Pose>*> edges;
+  for (const auto& e : g.odometry()) edges.push_back(&e);
+  for (const int l : loops) edges.push_back(&g.loops()[l]);
+  std::vector<Pose> x = g.ComposeOdometry();
+  const int n = (g.num_poses() - 1) * D;
+  for (int it = 0; it < k; ++it) {
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+    for (const auto* e : edges) {
+      typename Pose::Jacobian ji, jj;
+      const auto r =
+          EdgeResidualAndJacobians(e->measurement, x[e->from], x[e->to], &ji, &jj);
+      Eigen::MatrixXd j = Eigen::MatrixXd::Zero(D, n + D);  // pose 0 first
+      j.block(0, e->from * D, D, D) = ji;
+      j.block(0, e->to * D, D, D) = jj;
+      const Eigen::MatrixXd jf = j.rightCols(n);
+      h += jf.transpose() * e->information * jf;
+      b -= jf.transpose() * e->information * r;
+    }
+    const Eigen::VectorXd delta = h.ldlt().solve(b);
+    for (int p = 1; p < g.num_poses(); ++p) {
+      x[p] = x[p] * Pose::Exp(delta.template segment<D>((p - 1) * D));
+    }
+  }
+  double total = 0;
+  for (const auto* e : edges) total += EdgeChi2(*e, x);
+  return total;
+}
+
+TEST(GaussNewton, ReducedSolveEqualsDenseSolveOfTheWholeGraph) {
+  // A wiggly 2D path with noisy odometry and loops in its middle only, so
+  // both ends of the chain lie outside the stretch that the loops span.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  const int n = 40;
+  PoseGraph<Pose2> g;
+  std::vector<Pose2> truth;
+  for (int k = 0; k < n; ++k) {
+    truth.push_back(Pose2(std::cos(0.3 * k) * 5, std::sin(0.3 * k) * 5, 0.3 * k));
+    g.AddPose(k, truth.back());
+  }
+  Constraint<Pose2> e;
+  e.information = Eigen::Vector3d(20, 30, 200).asDiagonal();
+  for (int k = 0; k + 1 < n; ++k) {
+    e.from = k;
+    e.to = k + 1;
+    e.measurement = truth[k].between(truth[k + 1]) *
+                    Pose2(noise(rng), noise(rng), noise(rng));
+    g.AddEdge(e);
+  }
+  for (const auto& [a, b, wrong] : {std::tuple{10, 25, 0.0}, {12, 30, 0.0},
+                                    {15, 22, 2.0}}) {
+    e.from = b;
+    e.to = a;
+    e.measurement = truth[b].between(truth[a]) * Pose2(wrong, 0, wrong / 4);
+    g.AddEdge(e);
+  }
+  GaussNewton<Pose2> solver(g, 4);
+  for (const std::vector<int>& loops :
+       {std::vector<int>{0}, {1}, {0, 1}, {2}, {0, 1, 2}}) {
+    EXPECT_NEAR(solver.Solve(loops).total_chi2, DenseSolve(g, loops, 4),
+                1e-6 * (1 + DenseSolve(g, loops, 4)));
+  }
 }
 
 TEST(GaussNewton, HoldsFixedPoses) {
