@@ -2,14 +2,13 @@
 // iterations from odometry) of the synthetic datasets, as Google Benchmark
 // cases. Datasets come from RRR_DATASETS (default ../shared/datasets beside
 // the source tree); a missing one is reported and skipped.
+#include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <string>
-
-#include <benchmark/benchmark.h>
 
 #include "rrr/io/g2o.h"
 #include "rrr/solver/gauss_newton.h"

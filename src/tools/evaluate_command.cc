@@ -3,9 +3,8 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
-#include <optional>
-
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.h"
 #include "rrr/eval/ground_truth.h"
@@ -48,16 +47,19 @@ std::vector<std::pair<LoopKey, bool>> ReadDecisions(const std::string& path) {
     throw InputError(path, 0, std::string("not a JSON report: ") + e.what());
   }
   std::vector<std::pair<LoopKey, bool>> out;
-  for (const auto& [field, accepted] : {std::pair{"accepted", true}, {"rejected", false}}) {
+  for (const auto& [field, accepted] :
+       {std::pair{"accepted", true}, {"rejected", false}}) {
     if (!report.contains(field) || !report[field].is_array()) {
-      throw InputError(path, 0, std::string("the report has no '") + field + "' list");
+      throw InputError(path, 0,
+                       std::string("the report has no '") + field + "' list");
     }
     for (const auto& pair : report[field]) {
-      if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number_integer() ||
-          !pair[1].is_number_integer()) {
-        throw InputError(path, 0, std::string("'") + field +
-                                      "' holds an entry that is not [i, j]: " +
-                                      pair.dump());
+      if (!pair.is_array() || pair.size() != 2 ||
+          !pair[0].is_number_integer() || !pair[1].is_number_integer()) {
+        throw InputError(
+            path, 0,
+            std::string("'") + field +
+                "' holds an entry that is not [i, j]: " + pair.dump());
       }
       out.push_back({{pair[0].get<PoseId>(), pair[1].get<PoseId>()}, accepted});
     }
@@ -71,7 +73,8 @@ std::optional<Positions> TruePositions(const EvaluateArgs& args,
   if (!args.gt_g2o.empty()) {
     const G2oFile file = ReadG2o(args.gt_g2o);
     if (const auto* g = std::get_if<PoseGraph2>(&file.graph)) {
-      for (int k = 0; k < g->num_poses(); ++k) (*planar)[g->ids()[k]] = g->estimates()[k];
+      for (int k = 0; k < g->num_poses(); ++k)
+        (*planar)[g->ids()[k]] = g->estimates()[k];
     }
     return PositionsOf(file.graph);
   }
@@ -81,9 +84,10 @@ std::optional<Positions> TruePositions(const EvaluateArgs& args,
     }
     const auto stamped = ReadStampedPoses(args.gt_csv);
     std::vector<double> gt_times;
+    gt_times.reserve(stamped.size());
     for (const auto& s : stamped) gt_times.push_back(s.first);
-    const auto match = AssociateByTime(ReadTimestamps(args.timestamps), gt_times,
-                                       args.max_dt);
+    const auto match =
+        AssociateByTime(ReadTimestamps(args.timestamps), gt_times, args.max_dt);
     Positions out;
     for (size_t id = 0; id < match.size(); ++id) {
       if (match[id] < 0) continue;
@@ -113,13 +117,17 @@ void Evaluate(const EvaluateArgs& args) {
     }
     const G2oFile input = ReadG2o(args.graph);
     const auto* g = std::get_if<PoseGraph2>(&input.graph);
-    if (!g) throw InputError(args.graph, 0, "judging loops by ground truth needs a 2D graph");
+    if (!g)
+      throw InputError(args.graph, 0,
+                       "judging loops by ground truth needs a 2D graph");
     for (const auto& e : g->loops()) {
-      measured.emplace(LoopKey{g->ids()[e.from], g->ids()[e.to]}, e.measurement);
+      measured.emplace(LoopKey{g->ids()[e.from], g->ids()[e.to]},
+                       e.measurement);
     }
   }
-  const std::set<LoopKey> false_set =
-      args.false_loops.empty() ? std::set<LoopKey>() : ReadLoopList(args.false_loops);
+  const std::set<LoopKey> false_set = args.false_loops.empty()
+                                          ? std::set<LoopKey>()
+                                          : ReadLoopList(args.false_loops);
   const std::map<LoopKey, LoopLabel> labels =
       args.labels.empty() ? std::map<LoopKey, LoopLabel>()
                           : ReadLoopLabels(args.labels, args.level);
@@ -130,18 +138,21 @@ void Evaluate(const EvaluateArgs& args) {
     } else if (!args.labels.empty()) {
       const auto it = labels.find(key);
       if (it == labels.end()) {
-        throw InputError(args.labels, 0, "no label for candidate " +
-                                             std::to_string(key.first) + " " +
-                                             std::to_string(key.second));
+        throw InputError(args.labels, 0,
+                         "no label for candidate " + std::to_string(key.first) +
+                             " " + std::to_string(key.second));
       }
       label = it->second;
     } else {
-      const auto a = planar_truth.find(key.first), b = planar_truth.find(key.second);
+      const auto a = planar_truth.find(key.first),
+                 b = planar_truth.find(key.second);
       const auto z = measured.find(key);
-      if (a == planar_truth.end() || b == planar_truth.end() || z == measured.end()) {
-        throw InputError(args.graph, 0, "no ground truth for candidate " +
-                                            std::to_string(key.first) + " " +
-                                            std::to_string(key.second));
+      if (a == planar_truth.end() || b == planar_truth.end() ||
+          z == measured.end()) {
+        throw InputError(args.graph, 0,
+                         "no ground truth for candidate " +
+                             std::to_string(key.first) + " " +
+                             std::to_string(key.second));
       }
       label = JudgeLoop(z->second, a->second, b->second);
     }
@@ -180,7 +191,8 @@ void Evaluate(const EvaluateArgs& args) {
         ref.push_back(it->second);
       }
     }
-    if (est.empty()) throw InputError(args.map, 0, "no pose matches the ground truth");
+    if (est.empty())
+      throw InputError(args.map, 0, "no pose matches the ground truth");
     Eigen::MatrixXd e(est[0].size(), est.size()), r(est[0].size(), est.size());
     for (size_t k = 0; k < est.size(); ++k) {
       e.col(k) = est[k];
@@ -218,15 +230,19 @@ void AddEvaluateCommand(CLI::App& app) {
   cmd->add_option("--labels", args->labels,
                   "Bicocca labels_all_levels.txt (label or grey = correct)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--level", args->level, "confidence level of --labels, e.g. 0.150");
-  cmd->add_option("--gt-g2o", args->gt_g2o, "reference trajectory as g2o (same ids)")
+  cmd->add_option("--level", args->level,
+                  "confidence level of --labels, e.g. 0.150");
+  cmd->add_option("--gt-g2o", args->gt_g2o,
+                  "reference trajectory as g2o (same ids)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--gt-csv", args->gt_csv, "time-stamped ground truth: t, x, y, theta")
+  cmd->add_option("--gt-csv", args->gt_csv,
+                  "time-stamped ground truth: t, x, y, theta")
       ->check(CLI::ExistingFile);
   cmd->add_option("--timestamps", args->timestamps, "time of pose k on line k")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--max-dt", args->max_dt,
-                  "largest time difference of an associated ground-truth pose (s)")
+  cmd->add_option(
+         "--max-dt", args->max_dt,
+         "largest time difference of an associated ground-truth pose (s)")
       ->capture_default_str();
   cmd->add_option("--graph", args->graph,
                   "the verified input g2o, to judge loops by the ground truth")

@@ -9,7 +9,8 @@ namespace rrr {
 AnyPoseGraph LoadGraph(const std::string& path) {
   G2oFile file = ReadG2o(path);
   if (!file.skipped_tags.empty()) {
-    std::cerr << "rrr: warning: " << path << ": skipped lines with unknown tags: "
+    std::cerr << "rrr: warning: " << path
+              << ": skipped lines with unknown tags: "
               << DescribeSkipped(file.skipped_tags) << "\n";
   }
   const std::string gap =

@@ -33,8 +33,9 @@ void AddOptimizeCommand(CLI::App& app) {
       "optimize",
       "Optimize a g2o file with all its edges (no verification) to "
       "convergence, starting from its odometry.");
-  cmd->add_option("input", *input, "g2o file")->required()->check(
-      CLI::ExistingFile);
+  cmd->add_option("input", *input, "g2o file")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", *output, "optimized g2o output")->required();
   cmd->callback([input, output] {
     const AnyPoseGraph graph = LoadGraph(*input);

@@ -1,14 +1,14 @@
 // The rrr program as a user runs it: exit codes, messages and outputs.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -45,16 +45,18 @@ TEST(RrrTool, MalformedInputIsAClearErrorNotACrash) {
   const std::string bad = Tmp("bad.g2o");
   std::ofstream(bad) << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
                         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0\n";
-  const Result r = Rrr("verify " + bad + " -w 10 -o " + Tmp("o.g2o") +
-                       " -r " + Tmp("r.json"));
+  const Result r = Rrr("verify " + bad + " -w 10 -o " + Tmp("o.g2o") + " -r " +
+                       Tmp("r.json"));
   EXPECT_EQ(r.status, 1);
-  EXPECT_THAT(r.output, HasSubstr(bad + ":3: EDGE_SE2 needs 12 fields, found 11"));
+  EXPECT_THAT(r.output,
+              HasSubstr(bad + ":3: EDGE_SE2 needs 12 fields, found 11"));
 }
 
 TEST(RrrTool, BrokenOdometryChainIsNamed) {
   const std::string gap = Tmp("gap.g2o");
-  std::ofstream(gap) << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
-                        "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n";
+  std::ofstream(gap)
+      << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
+         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n";
   const Result r = Rrr("optimize " + gap + " -o " + Tmp("o.g2o"));
   EXPECT_EQ(r.status, 1);
   EXPECT_THAT(r.output, HasSubstr("pose 2 has no odometry edge to pose 1"));
@@ -69,11 +71,13 @@ TEST(RrrTool, BadOptionIsNamed) {
 
 TEST(RrrTool, UnknownTagsAreCountedInAWarning) {
   const std::string file = Tmp("tags.g2o");
-  std::ofstream(file) << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_XY 5 1 1\n"
-                         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n";
+  std::ofstream(file)
+      << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_XY 5 1 1\n"
+         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n";
   const Result r = Rrr("optimize " + file + " -o " + Tmp("o.g2o"));
   EXPECT_EQ(r.status, 0);
-  EXPECT_THAT(r.output, HasSubstr("skipped lines with unknown tags: VERTEX_XY x1"));
+  EXPECT_THAT(r.output,
+              HasSubstr("skipped lines with unknown tags: VERTEX_XY x1"));
 }
 
 TEST(RrrTool, SimulateVerifyEvaluateRoundTrip) {
@@ -84,16 +88,17 @@ TEST(RrrTool, SimulateVerifyEvaluateRoundTrip) {
                 truth + " --ground-truth " + gt)
                 .status,
             0);
-  const Result v = Rrr("verify " + world + " -w 10 -o " + out + " -r " + report);
+  const Result v =
+      Rrr("verify " + world + " -w 10 -o " + out + " -r " + report);
   ASSERT_EQ(v.status, 0) << v.output;
   const nlohmann::json r = ReadJson(report);
   EXPECT_EQ(r["candidates"].get<size_t>(),
             r["accepted"].size() + r["rejected"].size());
   EXPECT_GT(r["clusters"].get<int>(), 0);
   EXPECT_GE(r["seconds"].get<double>(), 0.0);
-  const Result e = Rrr("evaluate " + report + " --map " + out +
-                       " --false-loops " + truth + " --gt-g2o " + gt +
-                       " --json " + eval);
+  const Result e =
+      Rrr("evaluate " + report + " --map " + out + " --false-loops " + truth +
+          " --gt-g2o " + gt + " --json " + eval);
   ASSERT_EQ(e.status, 0) << e.output;
   const nlohmann::json scores = ReadJson(eval);
   EXPECT_DOUBLE_EQ(scores["precision"].get<double>(), 1.0);

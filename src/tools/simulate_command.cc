@@ -19,11 +19,13 @@ void AddSimulateCommand(CLI::App& app) {
       "at revisits and random false loops, with its ground truth.");
   cmd->add_option("--poses", options->poses, "number of poses")
       ->capture_default_str();
-  cmd->add_option("--false-loops", options->false_loops, "number of false loops")
+  cmd->add_option("--false-loops", options->false_loops,
+                  "number of false loops")
       ->capture_default_str();
   cmd->add_option("--group", options->group, "false loops come in groups of G")
       ->capture_default_str();
-  cmd->add_option("--seed", options->seed, "random seed")->capture_default_str();
+  cmd->add_option("--seed", options->seed, "random seed")
+      ->capture_default_str();
   cmd->add_option("-o,--output", *output, "g2o output")->required();
   cmd->add_option("-t,--truth", *truth, "list of the false loops (i j)")
       ->required();

@@ -27,8 +27,9 @@ void Spoil(PoseGraph<Pose> graph, const SpoilArgs& args) {
                 "false loops added to " + args.input + " (seed " +
                     std::to_string(args.options.seed) + ")",
                 args.truth);
-  std::cout << "added " << added.size() << " false loops; " << graph.loops().size()
-            << " loop candidates in " << args.output << "\n";
+  std::cout << "added " << added.size() << " false loops; "
+            << graph.loops().size() << " loop candidates in " << args.output
+            << "\n";
 }
 
 }  // namespace
@@ -40,8 +41,9 @@ void AddSpoilCommand(CLI::App& app) {
       "Add false loop closures between random pose pairs (x, y, z ~ N(0, 0.3 "
       "m), angles ~ N(0, 10 deg), information of the first loop) and list "
       "them.");
-  cmd->add_option("input", args->input, "g2o file")->required()->check(
-      CLI::ExistingFile);
+  cmd->add_option("input", args->input, "g2o file")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("-n,--outliers", args->options.count, "number of false loops")
       ->required();
   cmd->add_flag("--local", args->options.local,
@@ -53,7 +55,8 @@ void AddSpoilCommand(CLI::App& app) {
                   "groups of G consecutive false loops (i+k, j+k)")
       ->capture_default_str();
   cmd->add_option("-s,--seed", args->options.seed, "random seed")->required();
-  cmd->add_option("-o,--output", args->output, "spoiled g2o output")->required();
+  cmd->add_option("-o,--output", args->output, "spoiled g2o output")
+      ->required();
   cmd->add_option("-t,--truth", args->truth, "list of the false loops (i j)")
       ->required();
   cmd->callback([args] {

@@ -2,7 +2,6 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -38,8 +37,9 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
   Verdict verdict;
   {
     ProgressBar bar("rrr: clusters", true);
-    verdict = VerifyBatch(LoopEnds(graph), solver, args.options,
-                          [&bar](int done, int total) { bar.Update(done, total); });
+    verdict =
+        VerifyBatch(LoopEnds(graph), solver, args.options,
+                    [&bar](int done, int total) { bar.Update(done, total); });
   }
   const std::vector<Pose> map = solver.Optimize(verdict.accepted, {});
   const double seconds =

@@ -36,9 +36,9 @@ template <class Pose>
 LoopLabel JudgeLoop(const Pose& z, const Pose& a, const Pose& b) {
   const Pose error = a.between(b).between(z);
   const double t = error.translation().norm(), r = error.angle();
-  return {t < kTopologicalRule.max_translation &&
-              r < kTopologicalRule.max_rotation,
-          t < kMetricRule.max_translation && r < kMetricRule.max_rotation};
+  return {
+      t < kTopologicalRule.max_translation && r < kTopologicalRule.max_rotation,
+      t < kMetricRule.max_translation && r < kMetricRule.max_rotation};
 }
 
 // One time stamp per line (RAWSEEDS-style pose stamps).

@@ -2,12 +2,11 @@
 #ifndef RRR_GRAPH_POSE_GRAPH_H_
 #define RRR_GRAPH_POSE_GRAPH_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace rrr {
 

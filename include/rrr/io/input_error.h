@@ -12,8 +12,9 @@ namespace rrr {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& source, int line, const std::string& problem)
-      : std::runtime_error(source + (line > 0 ? ":" + std::to_string(line) : "") +
-                           ": " + problem) {}
+      : std::runtime_error(source +
+                           (line > 0 ? ":" + std::to_string(line) : "") + ": " +
+                           problem) {}
 };
 
 }  // namespace rrr

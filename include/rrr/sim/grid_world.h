@@ -33,9 +33,9 @@ struct GridWorldOptions {
 };
 
 struct SimulatedWorld {
-  PoseGraph<Pose2> graph;         // odometry chain as the vertex estimates
-  std::vector<Pose2> truth;       // the true poses
-  std::vector<int> false_loops;   // indices into graph.loops()
+  PoseGraph<Pose2> graph;        // odometry chain as the vertex estimates
+  std::vector<Pose2> truth;      // the true poses
+  std::vector<int> false_loops;  // indices into graph.loops()
 };
 
 // Simulates the world. Same options, same world. Throws

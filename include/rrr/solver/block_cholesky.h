@@ -4,11 +4,10 @@
 
 #include <cholmod.h>
 
+#include <Eigen/Core>
 #include <memory>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace rrr {
 
@@ -16,8 +15,9 @@ namespace rrr {
 // diagonal blocks and the off-diagonal blocks given at construction. The
 // sparsity pattern is analysed once, at construction: a fill-reducing block
 // ordering, in which the matrix is then stored, and the symbolic
-// factorization. Each Solve() only refactorizes numerically, in place. Blocks of the pattern that are left zero cost nothing extra in
-// correctness, so one instance serves every subset of the pattern's edges.
+// factorization. Each Solve() only refactorizes numerically, in place. Blocks
+// of the pattern that are left zero cost nothing extra in correctness, so one
+// instance serves every subset of the pattern's edges.
 template <int D>
 class BlockCholesky {
  public:
@@ -49,8 +49,8 @@ class BlockCholesky {
  private:
   int num_blocks_;
   std::vector<int> position_;  // permuted position of each block
-  // For each slot: permuted block row and column (row <= column) and, for each of
-  // the D scalar columns, the index in A's values of the block's first row.
+  // For each slot: permuted block row and column (row <= column) and, for each
+  // of the D scalar columns, the index in A's values of the block's first row.
   struct Slot {
     int row, col;
     int start[D];

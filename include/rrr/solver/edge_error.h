@@ -29,7 +29,7 @@ typename Pose::Tangent EdgeResidualAndJacobians(const Pose& z, const Pose& xi,
                                                 const Pose& xj,
                                                 typename Pose::Jacobian* ji,
                                                 typename Pose::Jacobian* jj) {
-  const typename Pose::Tangent r = EdgeResidual(z, xi, xj);
+  typename Pose::Tangent r = EdgeResidual(z, xi, xj);
   *jj = Pose::RightJacobianInverse(r);
   *ji = -(*jj) * xj.between(xi).Adjoint();
   return r;

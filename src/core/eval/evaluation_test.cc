@@ -1,15 +1,14 @@
 // Precision/recall, ATE and the ground-truth readers.
-#include <cstdio>
-#include <fstream>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <fstream>
 
 #include "rrr/eval/ground_truth.h"
 #include "rrr/eval/loop_scores.h"
 #include "rrr/eval/trajectory_error.h"
-
-#include <Eigen/Geometry>
 #include "rrr/io/input_error.h"
 
 namespace rrr {
@@ -59,7 +58,8 @@ TEST(AbsoluteTrajectoryError, IgnoresARigidMotionButNotNoise) {
 }
 
 TEST(AssociateByTime, TakesTheNearestWithinTolerance) {
-  const auto m = AssociateByTime({0.0, 1.04, 2.5, 10.0}, {0.1, 1.0, 1.1, 3.0}, 0.25);
+  const auto m =
+      AssociateByTime({0.0, 1.04, 2.5, 10.0}, {0.1, 1.0, 1.1, 3.0}, 0.25);
   EXPECT_EQ(m, (std::vector<int>{0, 1, -1, -1}));
 }
 
@@ -102,7 +102,8 @@ TEST(GroundTruthFiles, ErrorsNameTheLine) {
     ReadStampedPoses(csv.path());
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), HasSubstr(csv.path() + ":2: field 2 'zero' is not a number"));
+    EXPECT_THAT(e.what(),
+                HasSubstr(csv.path() + ":2: field 2 'zero' is not a number"));
   }
   const TempFile list("4 2\n7\n");
   EXPECT_THROW(ReadLoopList(list.path()), InputError);

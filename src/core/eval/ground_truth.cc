@@ -34,14 +34,17 @@ std::vector<double> ReadTimestamps(const std::string& path) {
   return times;
 }
 
-std::vector<std::pair<double, Pose2>> ReadStampedPoses(const std::string& path) {
+std::vector<std::pair<double, Pose2>> ReadStampedPoses(
+    const std::string& path) {
   std::vector<std::pair<double, Pose2>> poses;
   ForEachLine(path, true, [&](const TextFields& f) {
     f.ExpectCount(4, "a 'time, x, y, theta' line");
-    poses.emplace_back(f.Number(0), Pose2(f.Number(1), f.Number(2), f.Number(3)));
+    poses.emplace_back(f.Number(0),
+                       Pose2(f.Number(1), f.Number(2), f.Number(3)));
   });
-  std::stable_sort(poses.begin(), poses.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(
+      poses.begin(), poses.end(),
+      [](const auto& a, const auto& b) { return a.first < b.first; });
   return poses;
 }
 
@@ -50,7 +53,8 @@ std::vector<int> AssociateByTime(const std::vector<double>& times,
                                  double max_dt) {
   std::vector<int> match(times.size(), -1);
   for (size_t k = 0; k < times.size(); ++k) {
-    const auto it = std::lower_bound(reference.begin(), reference.end(), times[k]);
+    const auto it =
+        std::lower_bound(reference.begin(), reference.end(), times[k]);
     int best = -1;
     double best_dt = max_dt;
     for (const auto c : {it - 1, it}) {

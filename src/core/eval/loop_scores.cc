@@ -17,7 +17,8 @@ double LoopScores::recall() const {
 LoopScores ScoreLoops(const std::vector<bool>& accepted,
                       const std::vector<bool>& correct) {
   if (accepted.size() != correct.size()) {
-    throw std::invalid_argument("ScoreLoops: decisions and truth differ in size");
+    throw std::invalid_argument(
+        "ScoreLoops: decisions and truth differ in size");
   }
   LoopScores s;
   s.candidates = static_cast<int>(accepted.size());

@@ -1,9 +1,8 @@
 #include "rrr/eval/trajectory_error.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
 
 namespace rrr {
 
@@ -18,8 +17,8 @@ double AbsoluteTrajectoryError(const Eigen::MatrixXd& estimate,
   }
   const Eigen::MatrixXd t = Eigen::umeyama(estimate, reference, false);
   const long d = estimate.rows();
-  const Eigen::MatrixXd aligned =
-      (t.topLeftCorner(d, d) * estimate).colwise() + t.topRightCorner(d, 1).col(0);
+  const Eigen::MatrixXd aligned = (t.topLeftCorner(d, d) * estimate).colwise() +
+                                  t.topRightCorner(d, 1).col(0);
   return std::sqrt((aligned - reference).colwise().squaredNorm().mean());
 }
 

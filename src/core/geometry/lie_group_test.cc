@@ -1,8 +1,8 @@
 // Lie-group identities and Jacobians of Pose2 and Pose3, checked numerically.
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/LU>
-#include <gtest/gtest.h>
+#include <random>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -100,11 +100,11 @@ TYPED_TEST(LieGroupTest, RightJacobianMatchesNumeric) {
       EXPECT_LT((TypeParam::RightJacobianInverse(xi) - numeric_inverse).norm(),
                 1e-6)
           << "scale " << scale;
-      EXPECT_LT((TypeParam::RightJacobianInverse(xi) *
-                     TypeParam::RightJacobian(xi) -
-                 TypeParam::Jacobian::Identity())
-                    .norm(),
-                1e-9);
+      EXPECT_LT(
+          (TypeParam::RightJacobianInverse(xi) * TypeParam::RightJacobian(xi) -
+           TypeParam::Jacobian::Identity())
+              .norm(),
+          1e-9);
     }
   }
 }

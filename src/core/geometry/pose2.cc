@@ -1,8 +1,7 @@
 #include "rrr/geometry/pose2.h"
 
-#include <cmath>
-
 #include <Eigen/LU>
+#include <cmath>
 
 namespace rrr {
 namespace {
@@ -46,8 +45,7 @@ Eigen::Matrix2d Pose2::rotation() const {
 Pose2 Pose2::operator*(const Pose2& other) const {
   const Translation t(t_.x() + cos_ * other.t_.x() - sin_ * other.t_.y(),
                       t_.y() + sin_ * other.t_.x() + cos_ * other.t_.y());
-  return Pose2(t, theta_ + other.theta_,
-               cos_ * other.cos_ - sin_ * other.sin_,
+  return Pose2(t, theta_ + other.theta_, cos_ * other.cos_ - sin_ * other.sin_,
                sin_ * other.cos_ + cos_ * other.sin_);
 }
 

@@ -46,8 +46,8 @@ Eigen::Quaterniond SO3Exp(const Vector3& phi) {
 
 Vector3 SO3Log(const Eigen::Quaterniond& q_in) {
   // Use the representative with w >= 0 so the angle is in [0, pi].
-  const Eigen::Quaterniond q = q_in.w() < 0 ? Eigen::Quaterniond(-q_in.coeffs())
-                                            : q_in;
+  const Eigen::Quaterniond q =
+      q_in.w() < 0 ? Eigen::Quaterniond(-q_in.coeffs()) : q_in;
   const double n = q.vec().norm();
   if (n < 1e-10) return 2.0 * q.vec() / q.w();
   return 2.0 * std::atan2(n, q.w()) / n * q.vec();

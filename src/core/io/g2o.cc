@@ -1,11 +1,10 @@
 #include "rrr/io/g2o.h"
 
+#include <Eigen/Cholesky>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <optional>
-
-#include <Eigen/Cholesky>
 
 #include "rrr/io/input_error.h"
 #include "rrr/io/text_fields.h"
@@ -59,8 +58,8 @@ struct G2oTraits<Pose3> {
   static void WritePose(const Pose3& p, std::ostream& out) {
     const Eigen::Vector3d& t = p.translation();
     const Eigen::Quaterniond& q = p.quaternion();
-    out << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' '
-        << q.y() << ' ' << q.z() << ' ' << q.w();
+    out << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y()
+        << ' ' << q.z() << ' ' << q.w();
   }
 };
 
@@ -74,7 +73,8 @@ PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
   PoseGraph<Pose> graph;
   std::string problem;
   for (const auto& [id, v] : vertices) {
-    const std::optional<Pose> pose = Traits::MakePose(v.values.data(), &problem);
+    const std::optional<Pose> pose =
+        Traits::MakePose(v.values.data(), &problem);
     if (!pose) throw InputError(source, v.line, problem);
     graph.AddPose(id, *pose);
   }
@@ -89,9 +89,9 @@ PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
       }
     }
     if (e.from == e.to) {
-      throw InputError(source, e.line, "edge connects vertex " +
-                                           std::to_string(e.from) +
-                                           " to itself");
+      throw InputError(
+          source, e.line,
+          "edge connects vertex " + std::to_string(e.from) + " to itself");
     }
     const std::optional<Pose> z = Traits::MakePose(e.values.data(), &problem);
     if (!z) throw InputError(source, e.line, problem);
@@ -156,7 +156,8 @@ G2oFile ParseG2o(std::istream& in, const std::string& source) {
       f.ExpectCount(2 + (is2d_vertex ? 3 : 7), tag);
       const PoseId id = f.Integer(1);
       if (vertices.count(id)) {
-        f.Fail("vertex " + std::to_string(id) + " is defined twice (first on line " +
+        f.Fail("vertex " + std::to_string(id) +
+               " is defined twice (first on line " +
                std::to_string(vertices[id].line) + ")");
       }
       vertices[id] = PendingVertex{line, f.Numbers(2)};
@@ -167,7 +168,8 @@ G2oFile ParseG2o(std::istream& in, const std::string& source) {
           PendingEdge{line, f.Integer(1), f.Integer(2), f.Numbers(3)});
     } else if (tag == "FIX") {
       if (f.size() < 2) f.Fail("FIX needs at least one vertex id");
-      for (size_t k = 1; k < f.size(); ++k) fixed.emplace_back(line, f.Integer(k));
+      for (size_t k = 1; k < f.size(); ++k)
+        fixed.emplace_back(line, f.Integer(k));
     } else {
       ++skipped[tag];
     }
@@ -175,10 +177,11 @@ G2oFile ParseG2o(std::istream& in, const std::string& source) {
   if (in.bad()) throw InputError(source, 0, "read error");
   if (vertices.empty()) throw InputError(source, 0, "no vertices");
 
-  G2oFile file{dim == Dimension::k3D
-                   ? AnyPoseGraph(BuildGraph<Pose3>(vertices, edges, fixed, source))
-                   : AnyPoseGraph(BuildGraph<Pose2>(vertices, edges, fixed, source)),
-               skipped};
+  G2oFile file{
+      dim == Dimension::k3D
+          ? AnyPoseGraph(BuildGraph<Pose3>(vertices, edges, fixed, source))
+          : AnyPoseGraph(BuildGraph<Pose2>(vertices, edges, fixed, source)),
+      skipped};
   return file;
 }
 
@@ -201,7 +204,8 @@ template <class Pose>
 void WriteG2o(const PoseGraph<Pose>& graph, const std::vector<Pose>& estimates,
               const std::vector<int>& loops, std::ostream& out) {
   using Traits = G2oTraits<Pose>;
-  const auto old_precision = out.precision(std::numeric_limits<double>::max_digits10);
+  const auto old_precision =
+      out.precision(std::numeric_limits<double>::max_digits10);
   const auto& ids = graph.ids();
   for (int k = 0; k < graph.num_poses(); ++k) {
     out << Traits::kVertexTag << ' ' << ids[k] << ' ';

@@ -1,9 +1,9 @@
 #include "rrr/io/g2o.h"
 
-#include <sstream>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <sstream>
 
 #include "rrr/io/input_error.h"
 
@@ -53,7 +53,8 @@ TEST(G2o, ReadsSE3WithQuaternionOrderXyzw) {
   const G2oFile file = Parse(
       "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"
       "VERTEX_SE3:QUAT 1 1 2 3 0 0 0.7071068 0.7071068\n"
-      "EDGE_SE3:QUAT 0 1 1 2 3 0 0 0.7071068 0.7071068" + info + "\n");
+      "EDGE_SE3:QUAT 0 1 1 2 3 0 0 0.7071068 0.7071068" +
+      info + "\n");
   const auto& g = std::get<PoseGraph3>(file.graph);
   ASSERT_EQ(g.odometry().size(), 1u);
   EXPECT_NEAR(g.estimates()[1].angle(), M_PI / 2, 1e-6);
@@ -106,9 +107,8 @@ TEST(G2o, ErrorsNameFileLineAndProblem) {
               HasSubstr("test.g2o:1: field 1 '0.5' is not an integer id"));
   EXPECT_THAT(ErrorOf("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 0 0 0 0\n"),
               HasSubstr("test.g2o:2: vertex 0 is defined twice"));
-  EXPECT_THAT(
-      ErrorOf("VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 5 1 0 0 1 0 0 1 0 1\n"),
-      HasSubstr("test.g2o:2: edge refers to unknown vertex 5"));
+  EXPECT_THAT(ErrorOf("VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 5 1 0 0 1 0 0 1 0 1\n"),
+              HasSubstr("test.g2o:2: edge refers to unknown vertex 5"));
   EXPECT_THAT(ErrorOf("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 0 0 0\n"
                       "EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n"),
               HasSubstr("test.g2o:3: information matrix of edge 0 -> 1 is not "
@@ -119,7 +119,8 @@ TEST(G2o, ErrorsNameFileLineAndProblem) {
               HasSubstr("test.g2o:1: the quaternion has zero norm"));
   EXPECT_THAT(ErrorOf("FIX 3\nVERTEX_SE2 0 0 0 0\n"),
               HasSubstr("test.g2o:1: FIX refers to unknown vertex 3"));
-  EXPECT_THAT(ErrorOf("# only a comment\n"), HasSubstr("test.g2o: no vertices"));
+  EXPECT_THAT(ErrorOf("# only a comment\n"),
+              HasSubstr("test.g2o: no vertices"));
 }
 
 TEST(G2o, MissingFileIsAnError) {

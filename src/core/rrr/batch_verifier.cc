@@ -18,9 +18,8 @@ Verdict VerifyBatch(const std::vector<std::pair<PoseId, PoseId>>& loop_ends,
 
   std::vector<int> order(loop_ends.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
-    return loop_ends[x] < loop_ends[y];
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int x, int y) { return loop_ends[x] < loop_ends[y]; });
   Clustering clustering(options.cluster_window);
   Verdict verdict;
   verdict.cluster_of_loop.resize(loop_ends.size());

@@ -1,9 +1,9 @@
 // Batch RRR end to end on generated worlds whose answer is known.
 #include "rrr/rrr/batch_verifier.h"
 
-#include <set>
-
 #include <gtest/gtest.h>
+
+#include <set>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/sim/grid_world.h"
@@ -91,7 +91,8 @@ TEST(VerifyBatch, RejectsBadOptions) {
   GaussNewton<Pose2> solver(w.graph, 4);
   RrrOptions rrr;
   rrr.alpha = 1.5;
-  EXPECT_THROW(VerifyBatch(LoopEnds(w.graph), solver, rrr), std::invalid_argument);
+  EXPECT_THROW(VerifyBatch(LoopEnds(w.graph), solver, rrr),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -1,10 +1,10 @@
 // Batch RRR on the real Bicocca 25b data, when the datasets are present
 // (RRR_DATASETS, default ../shared/datasets beside the source tree).
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <fstream>
 #include <map>
-
-#include <gtest/gtest.h>
 
 #include "rrr/eval/ground_truth.h"
 #include "rrr/eval/loop_scores.h"
@@ -36,9 +36,10 @@ TEST_P(BicoccaTest, FullPrecisionAndAtLeastTheReferenceRecall) {
   options.cluster_window = 50;
   const Verdict v = VerifyBatch(LoopEnds(graph), solver, options);
   const auto labels = ReadLoopLabels(dir + "labels_all_levels.txt", level);
-  const auto reference = ReadLoopList(dir + "reference_rrr_accepted/" + level + ".txt");
-  std::vector<bool> accepted(graph.loops().size()), correct(graph.loops().size()),
-      reference_accepted(graph.loops().size());
+  const auto reference =
+      ReadLoopList(dir + "reference_rrr_accepted/" + level + ".txt");
+  std::vector<bool> accepted(graph.loops().size()),
+      correct(graph.loops().size()), reference_accepted(graph.loops().size());
   for (const int k : v.accepted) accepted[k] = true;
   for (size_t k = 0; k < graph.loops().size(); ++k) {
     const LoopKey key{graph.ids()[graph.loops()[k].from],

@@ -1,9 +1,8 @@
 #include "rrr/rrr/chi_square.h"
 
+#include <boost/math/distributions/chi_squared.hpp>
 #include <stdexcept>
 #include <string>
-
-#include <boost/math/distributions/chi_squared.hpp>
 
 namespace rrr {
 

@@ -8,9 +8,9 @@ namespace {
 TEST(Clustering, NearbyLoopsShareAClusterAndFarOnesDoNot) {
   Clustering c(10);
   EXPECT_EQ(c.Add(0, 100, 20), 0);
-  EXPECT_EQ(c.Add(1, 105, 24), 0);   // both ends within 10
-  EXPECT_EQ(c.Add(2, 105, 60), 1);   // end too far
-  EXPECT_EQ(c.Add(3, 200, 22), 2);   // start too far
+  EXPECT_EQ(c.Add(1, 105, 24), 0);  // both ends within 10
+  EXPECT_EQ(c.Add(2, 105, 60), 1);  // end too far
+  EXPECT_EQ(c.Add(3, 200, 22), 2);  // start too far
   ASSERT_EQ(c.clusters().size(), 3u);
   EXPECT_EQ(c.clusters()[0].loops, (std::vector<int>{0, 1}));
 }

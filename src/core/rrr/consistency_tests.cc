@@ -87,9 +87,8 @@ std::vector<bool> InterClusterConsistent(
       for (size_t k = 0; k < h.size(); ++k) {
         const auto& members = clusters[h[k]];
         const auto first = errors.loop_chi2.begin() + offset;
-        const double ci =
-            std::accumulate(first, first + members.size(), 0.0) /
-            chi2(e * static_cast<int>(members.size()));
+        const double ci = std::accumulate(first, first + members.size(), 0.0) /
+                          chi2(e * static_cast<int>(members.size()));
         if (ci > worst_ci) {
           worst_ci = ci;
           worst = static_cast<int>(k);

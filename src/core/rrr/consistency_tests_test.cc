@@ -1,10 +1,10 @@
 // The decision procedure on a scripted solver whose answers are known.
 #include "rrr/rrr/consistency_tests.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <map>
-
-#include <gtest/gtest.h>
 
 namespace rrr {
 namespace {
@@ -65,8 +65,8 @@ TEST(IntraClusterConsistent, KeepsAFullyConsistentCluster) {
 TEST(InterClusterConsistent, AcceptsTheAgreeingMajorityAndRejectsTheRest) {
   // Clusters: {0,1,2} and {3,4} in world 1, {5} in world 2.
   ScriptedSolver solver({1, 1, 1, 1, 1, 2}, 0.0);
-  const auto good = InterClusterConsistent({{0, 1, 2}, {3, 4}, {5}}, solver,
-                                           kChi2);
+  const auto good =
+      InterClusterConsistent({{0, 1, 2}, {3, 4}, {5}}, solver, kChi2);
   EXPECT_EQ(good, (std::vector<bool>{true, true, false}));
 }
 

@@ -14,13 +14,15 @@ constexpr double kTranslationSigma = 0.3;
 constexpr double kAngleSigma = 10.0 * M_PI / 180.0;
 
 Pose2 RandomMeasurement(std::mt19937_64& rng, const Pose2*) {
-  std::normal_distribution<double> t(0.0, kTranslationSigma), a(0.0, kAngleSigma);
+  std::normal_distribution<double> t(0.0, kTranslationSigma),
+      a(0.0, kAngleSigma);
   const double x = t(rng), y = t(rng);
   return Pose2(x, y, a(rng));
 }
 
 Pose3 RandomMeasurement(std::mt19937_64& rng, const Pose3*) {
-  std::normal_distribution<double> t(0.0, kTranslationSigma), a(0.0, kAngleSigma);
+  std::normal_distribution<double> t(0.0, kTranslationSigma),
+      a(0.0, kAngleSigma);
   Eigen::Vector3d translation;
   for (int k = 0; k < 3; ++k) translation[k] = t(rng);
   const double roll = a(rng), pitch = a(rng), yaw = a(rng);
@@ -64,13 +66,14 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
     const int i = any(rng);
     const int j = options.local ? i + offset(rng) : any(rng);
     if (j < 0 || j >= last_start || std::abs(i - j) <= 1) continue;
-    for (int k = 0; k < options.group &&
-                    static_cast<int>(added.size()) < options.count;
+    for (int k = 0;
+         k < options.group && static_cast<int>(added.size()) < options.count;
          ++k) {
       Constraint<Pose> loop;
       loop.from = i + k;
       loop.to = j + k;
-      loop.measurement = RandomMeasurement(rng, static_cast<const Pose*>(nullptr));
+      loop.measurement =
+          RandomMeasurement(rng, static_cast<const Pose*>(nullptr));
       loop.information = information;
       graph->AddEdge(loop);
       added.push_back(static_cast<int>(graph->loops().size()) - 1);
@@ -79,7 +82,9 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
   return added;
 }
 
-template std::vector<int> AddFalseLoops(PoseGraph<Pose2>*, const FalseLoopOptions&);
-template std::vector<int> AddFalseLoops(PoseGraph<Pose3>*, const FalseLoopOptions&);
+template std::vector<int> AddFalseLoops(PoseGraph<Pose2>*,
+                                        const FalseLoopOptions&);
+template std::vector<int> AddFalseLoops(PoseGraph<Pose3>*,
+                                        const FalseLoopOptions&);
 
 }  // namespace rrr

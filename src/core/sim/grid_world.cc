@@ -17,7 +17,8 @@ std::string GridWorldOptions::Validate() const {
     return "loop_probability must be in [0, 1]";
   }
   if (min_gap < 2) return "min_gap must be at least 2";
-  if (false_loops < 0 || group < 1) return "false loops must be >= 0, group >= 1";
+  if (false_loops < 0 || group < 1)
+    return "false loops must be >= 0, group >= 1";
   return "";
 }
 
@@ -66,8 +67,10 @@ SimulatedWorld SimulateGridWorld(const GridWorldOptions& options) {
 
   // Odometry measurements with noise; vertex estimates compose them.
   Constraint<Pose2> edge;
-  const double it = 1.0 / (options.translation_noise * options.translation_noise + 1e-12);
-  const double ir = 1.0 / (options.rotation_noise * options.rotation_noise + 1e-12);
+  const double it =
+      1.0 / (options.translation_noise * options.translation_noise + 1e-12);
+  const double ir =
+      1.0 / (options.rotation_noise * options.rotation_noise + 1e-12);
   edge.information = Eigen::Vector3d(it, it, ir).asDiagonal();
   const auto noisy = [&](const Pose2& z) {
     return z * Pose2(options.translation_noise * unit(rng),

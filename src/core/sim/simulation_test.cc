@@ -85,7 +85,8 @@ TEST(SimulateGridWorld, OdometryIsNoisyTruthAndLoopsAreTrue) {
   // True loops measure the true relative pose up to odometry-sized noise.
   for (size_t k = 0; k < w.graph.loops().size() - 10; ++k) {
     const auto& l = w.graph.loops()[k];
-    const Pose2 err = w.truth[l.from].between(w.truth[l.to]).between(l.measurement);
+    const Pose2 err =
+        w.truth[l.from].between(w.truth[l.to]).between(l.measurement);
     EXPECT_LT(err.translation().norm(), 0.2);
   }
   EXPECT_EQ(SimulateGridWorld(options).graph.loops()[3].from,

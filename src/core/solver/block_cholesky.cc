@@ -42,8 +42,7 @@ std::vector<int> BlockOrdering(
 template <int D>
 BlockCholesky<D>::BlockCholesky(
     int num_blocks, const std::vector<std::pair<int, int>>& off_diagonal)
-    : num_blocks_(num_blocks),
-      common_(std::make_unique<cholmod_common>()) {
+    : num_blocks_(num_blocks), common_(std::make_unique<cholmod_common>()) {
   cholmod_start(common_.get());
   common_->print = 0;
 
@@ -131,8 +130,8 @@ int BlockCholesky<D>::OffDiagonalSlot(int r, int c) const {
   const int pr = position_.at(r), pc = position_.at(c);
   const int row = std::min(pr, pc), col = std::max(pr, pc);
   const auto& entries = slot_by_col_.at(col);
-  const auto it = std::lower_bound(entries.begin(), entries.end(),
-                                   std::make_pair(row, -1));
+  const auto it =
+      std::lower_bound(entries.begin(), entries.end(), std::make_pair(row, -1));
   if (row == col || it == entries.end() || it->first != row) {
     throw std::out_of_range("block not in the sparsity pattern");
   }
@@ -189,7 +188,8 @@ bool BlockCholesky<D>::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) {
   x->resize(rhs.size());
   for (int b = 0; b < num_blocks_; ++b) {
     x->template segment<D>(b * D) =
-        Eigen::Map<const Eigen::Matrix<double, D, 1>>(values + position_[b] * D);
+        Eigen::Map<const Eigen::Matrix<double, D, 1>>(
+            values + static_cast<std::ptrdiff_t>(position_[b]) * D);
   }
   cholmod_free_dense(&sol, common_.get());
   return x->allFinite();

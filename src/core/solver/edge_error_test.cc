@@ -1,9 +1,9 @@
 // The residual of an edge and its analytic Jacobians, checked numerically.
 #include "rrr/solver/edge_error.h"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -47,10 +47,12 @@ TYPED_TEST(EdgeErrorTest, JacobiansMatchNumericDerivatives) {
         Tangent d = Tangent::Zero();
         d[k] = h;
         const auto plus = TypeParam::Exp(d), minus = TypeParam::Exp(-d);
-        ni.col(k) = (EdgeResidual(z, xi * plus, xj) -
-                     EdgeResidual(z, xi * minus, xj)) / (2 * h);
-        nj.col(k) = (EdgeResidual(z, xi, xj * plus) -
-                     EdgeResidual(z, xi, xj * minus)) / (2 * h);
+        ni.col(k) =
+            (EdgeResidual(z, xi * plus, xj) - EdgeResidual(z, xi * minus, xj)) /
+            (2 * h);
+        nj.col(k) =
+            (EdgeResidual(z, xi, xj * plus) - EdgeResidual(z, xi, xj * minus)) /
+            (2 * h);
       }
       EXPECT_LT((ji - ni).norm(), 1e-6) << "noise " << noise;
       EXPECT_LT((jj - nj).norm(), 1e-6) << "noise " << noise;

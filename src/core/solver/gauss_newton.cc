@@ -53,7 +53,8 @@ class GaussNewton<Pose>::Problem {
   bool Step(std::vector<Pose>* x) {
     system_->SetZero();
     rhs_.setZero();
-    for (size_t k = 0; k < edges_.size(); ++k) Accumulate(*edges_[k], slots_[k], *x);
+    for (size_t k = 0; k < edges_.size(); ++k)
+      Accumulate(*edges_[k], slots_[k], *x);
     if (!system_->Solve(rhs_, &delta_)) return false;
     for (size_t p = 0; p < block_of_pose_.size(); ++p) {
       const int b = block_of_pose_[p];
@@ -89,7 +90,8 @@ class GaussNewton<Pose>::Problem {
       rhs_.template segment<D>(slots.to * D) -= wj * r;
     }
     if (slots.off_diagonal >= 0) {
-      system_->AddOffDiagonal(slots.off_diagonal, slots.from, slots.to, wi * jj);
+      system_->AddOffDiagonal(slots.off_diagonal, slots.from, slots.to,
+                              wi * jj);
     }
   }
 
@@ -103,13 +105,16 @@ class GaussNewton<Pose>::Problem {
 
 template <class Pose>
 GaussNewton<Pose>::GaussNewton(const PoseGraph<Pose>& graph, int iterations)
-    : graph_(graph), iterations_(iterations), initial_(graph.ComposeOdometry()) {
+    : graph_(graph),
+      iterations_(iterations),
+      initial_(graph.ComposeOdometry()) {
   for (const int k : graph.fixed()) last_fixed_ = std::max(last_fixed_, k);
 }
 
 template <class Pose>
 bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
-                            int max_iterations, const ConvergenceOptions* options,
+                            int max_iterations,
+                            const ConvergenceOptions* options,
                             std::vector<Pose>* x, int* iterations_run) const {
   *x = initial_;
   if (iterations_run) *iterations_run = 0;

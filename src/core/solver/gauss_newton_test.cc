@@ -1,9 +1,9 @@
 #include "rrr/solver/gauss_newton.h"
 
+#include <gtest/gtest.h>
+
 #include <random>
 #include <tuple>
-
-#include <gtest/gtest.h>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -47,13 +47,14 @@ TEST(GaussNewton, StraightLoopHasTheLeastSquaresAnswer) {
   }
   EXPECT_LE(iterations, 3);
   const SubsetErrors errors = solver.Solve({0});
-  const double expected_total = w * (n * (s - 1) * (s - 1) +
-                                     (n * s - loop_length) * (n * s - loop_length));
+  const double expected_total =
+      w *
+      (n * (s - 1) * (s - 1) + (n * s - loop_length) * (n * s - loop_length));
   EXPECT_NEAR(errors.total_chi2, expected_total, 1e-9);
   EXPECT_EQ(errors.num_edges, n + 1);
   ASSERT_EQ(errors.loop_chi2.size(), 1u);
-  EXPECT_NEAR(errors.loop_chi2[0], w * (n * s - loop_length) * (n * s - loop_length),
-              1e-9);
+  EXPECT_NEAR(errors.loop_chi2[0],
+              w * (n * s - loop_length) * (n * s - loop_length), 1e-9);
 }
 
 TEST(GaussNewton, SolveStartsFromOdometryEveryTime) {
@@ -132,8 +133,8 @@ double DenseSolve(const PoseGraph<Pose>& g, const std::vector<int>& loops,
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
     for (const auto* e : edges) {
       typename Pose::Jacobian ji, jj;
-      const auto r =
-          EdgeResidualAndJacobians(e->measurement, x[e->from], x[e->to], &ji, &jj);
+      const auto r = EdgeResidualAndJacobians(e->measurement, x[e->from],
+                                              x[e->to], &ji, &jj);
       Eigen::MatrixXd j = Eigen::MatrixXd::Zero(D, n + D);  // pose 0 first
       j.block(0, e->from * D, D, D) = ji;
       j.block(0, e->to * D, D, D) = jj;
@@ -160,7 +161,8 @@ TEST(GaussNewton, ReducedSolveEqualsDenseSolveOfTheWholeGraph) {
   PoseGraph<Pose2> g;
   std::vector<Pose2> truth;
   for (int k = 0; k < n; ++k) {
-    truth.push_back(Pose2(std::cos(0.3 * k) * 5, std::sin(0.3 * k) * 5, 0.3 * k));
+    truth.push_back(
+        Pose2(std::cos(0.3 * k) * 5, std::sin(0.3 * k) * 5, 0.3 * k));
     g.AddPose(k, truth.back());
   }
   Constraint<Pose2> e;
@@ -172,8 +174,8 @@ TEST(GaussNewton, ReducedSolveEqualsDenseSolveOfTheWholeGraph) {
                     Pose2(noise(rng), noise(rng), noise(rng));
     g.AddEdge(e);
   }
-  for (const auto& [a, b, wrong] : {std::tuple{10, 25, 0.0}, {12, 30, 0.0},
-                                    {15, 22, 2.0}}) {
+  for (const auto& [a, b, wrong] :
+       {std::tuple{10, 25, 0.0}, {12, 30, 0.0}, {15, 22, 2.0}}) {
     e.from = b;
     e.to = a;
     e.measurement = truth[b].between(truth[a]) * Pose2(wrong, 0, wrong / 4);
