@@ -5,7 +5,7 @@ and the metric rule, ATE, and time. Prints a table and draws the paper-style
 plots (precision, recall and ATE against the level; the trajectory at one
 level with its accepted and rejected loops) as PNG.
 
-    bench/bicocca_sweep.py [--repeat 5] [--out bench/out/bicocca] [--levels 0.150 ...]
+    bench/bicocca_sweep.py [--repeat 5] [--span-gate] [--out DIR] [--levels 0.150 ...]
 """
 import argparse
 import pathlib
@@ -32,6 +32,7 @@ def main():
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "bicocca"))
     parser.add_argument("--levels", nargs="*", help="levels to run (default: all 41)")
     parser.add_argument("--plot-level", default="0.150", help="level of the trajectory plot")
+    parser.add_argument("--span-gate", action="store_true", help="pass --span-gate to rrr verify")
     args = parser.parse_args()
     common.require_rrr()
     data = common.datasets_dir() / "bicocca25b"
@@ -49,7 +50,8 @@ def main():
         graph = data / f"B25b_{level}.g2o"
         level_dir = out / level
         level_dir.mkdir(exist_ok=True)
-        report, seconds, out_map = common.verify(graph, 50, level_dir, args.repeat)
+        extra = ["--span-gate"] if args.span_gate else []
+        report, seconds, out_map = common.verify(graph, 50, level_dir, args.repeat, extra)
         labels_args = ["--labels", data / "labels_all_levels.txt", "--level", level]
         ours = common.evaluate(level_dir / "report.json", "--map", out_map, *labels_args, *truth)
 
@@ -90,7 +92,7 @@ def main():
     far = [r["level"] for r in rows if r["ate"] > 1.1 * r["ate_correct"]]
     print(f"levels with precision < 1: {imprecise or 'none'}; recall below the reference: "
           f"{worse or 'none'}; ATE more than 10 % above the correct-candidates ATE: {far or 'none'}")
-    plot(rows, out, data, args.plot_level)
+    plot(rows, out, data, args.plot_level, "rrr_slam --span-gate" if args.span_gate else "rrr_slam")
 
 
 def align_to_ground_truth(poses, gt_rows, timestamps_path):
@@ -117,7 +119,7 @@ def align_to_ground_truth(poses, gt_rows, timestamps_path):
     return {k: tuple(rotation @ (np.array(v) - ms) + md) for k, v in poses.items()}
 
 
-def plot(rows, out, data, plot_level):
+def plot(rows, out, data, plot_level, name):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -127,7 +129,7 @@ def plot(rows, out, data, plot_level):
     for ax, key, ref_key, title in ((axes[0], "precision", "ref_precision", "precision"),
                                     (axes[1], "recall", "ref_recall", "recall"),
                                     (axes[2], "ate", "ref_ate", "ATE RMSE (m)")):
-        ax.plot(x, [r[key] for r in rows], "o-", label="rrr_slam")
+        ax.plot(x, [r[key] for r in rows], "o-", label=name)
         ax.plot(x, [r[ref_key] for r in rows], "s--", label="reference RRR")
         if key == "ate":
             ax.plot(x, [r["ate_correct"] for r in rows], ":", color="grey",
@@ -168,7 +170,7 @@ def plot(rows, out, data, plot_level):
                     lw=width, alpha=0.8, label=f"{name} loops ({len(report[key])})" if n == 0 else None)
     ax.set_aspect("equal")
     ax.legend()
-    ax.set_title(f"Bicocca 25b at {plot_level}: rrr verify (loops drawn on the optimized map)")
+    ax.set_title(f"Bicocca 25b at {plot_level}: {name} (loops drawn on the optimized map)")
     fig.tight_layout()
     fig.savefig(out / f"bicocca_{plot_level}_trajectory.png", dpi=100)
     print(f"wrote {out / f'bicocca_{plot_level}_trajectory.png'}")

@@ -58,7 +58,8 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
   report["seconds"] = seconds;
   report["options"] = {{"cluster_window", args.options.cluster_window},
                        {"iterations", args.options.iterations},
-                       {"alpha", args.options.alpha}};
+                       {"alpha", args.options.alpha},
+                       {"span_gate", args.options.span_gate}};
   std::ofstream out(args.report);
   out << report.dump(1) << "\n";
   if (!out) throw InputError(args.report, 0, "cannot write report");
@@ -88,6 +89,9 @@ void AddVerifyCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("-a,--alpha", args->options.alpha, "chi-square quantile")
       ->capture_default_str();
+  cmd->add_flag("--span-gate", args->options.span_gate,
+                "gate each solve's total error over the edges its loops span, "
+                "not the whole graph (an option beyond the published method)");
   cmd->add_option("-o,--output", args->output, "optimized g2o output")
       ->required();
   cmd->add_option("-r,--report", args->report, "JSON report output")

@@ -31,6 +31,12 @@ class Clustering {
   std::vector<Cluster> clusters_;
 };
 
+// Clusters the loops whose end ids are `loop_ends[k]` (loop k) taken in
+// ascending order of (a, b), as batch RRR does. Sets `cluster_of_loop`.
+std::vector<Cluster> ClusterInBatchOrder(
+    const std::vector<std::pair<PoseId, PoseId>>& loop_ends, PoseId window,
+    std::vector<int>* cluster_of_loop);
+
 }  // namespace rrr
 
 #endif  // RRR_RRR_CLUSTERING_H_

@@ -14,6 +14,14 @@ struct RrrOptions {
   int iterations = 4;
   // α: the χ² quantile of every gate.
   double alpha = 0.95;
+  // Off (the method as published): the total error D²_G of a solve is gated
+  // by χ²(α, e·n_G) over every edge of the graph. On: by χ²(α, e·n_S) over
+  // the n_S edges that can carry error (the stretch of odometry the active
+  // loops span, and the loops; see SubsetErrors), so a cluster that bends a
+  // short stretch of odometry far is not let through by the many edges
+  // elsewhere that it leaves untouched. Not part of the paper; measured in
+  // BENCHMARKS.md.
+  bool span_gate = false;
 
   // Returns an empty string if the options are usable, otherwise a message
   // naming the first bad option.

@@ -12,6 +12,10 @@ struct SubsetErrors {
   double total_chi2 = 0.0;
   // n_G: number of active edges.
   int num_edges = 0;
+  // The active edges that can carry error: the odometry edges of the stretch
+  // of chain between the first and last pose the active loops reach, and the
+  // loops. Every other odometry edge keeps zero error. 0 with no loops.
+  int num_spanned_edges = 0;
   // d²_l of each active loop, in the order the loops were given.
   std::vector<double> loop_chi2;
   // False if the linear system could not be solved (then the errors are +inf).

@@ -53,11 +53,12 @@ class GaussNewton : public ConsistencySolver {
  private:
   class Problem;
   // Runs up to `max_iterations` steps from the odometry; stops early when
-  // `options` is given and the error stops decreasing. Returns false if the
-  // linear system could not be solved.
+  // `options` is given and the error stops decreasing. Sets `*spanned_edges`
+  // (see SubsetErrors) if given. Returns false if the linear system could not
+  // be solved.
   bool Run(const std::vector<int>& active_loops, int max_iterations,
            const ConvergenceOptions* options, std::vector<Pose>* x,
-           int* iterations_run) const;
+           int* iterations_run, int* spanned_edges = nullptr) const;
 
   const PoseGraph<Pose>& graph_;
   int iterations_;

@@ -1,7 +1,5 @@
 #include "rrr/rrr/batch_verifier.h"
 
-#include <algorithm>
-#include <numeric>
 #include <stdexcept>
 
 #include "rrr/rrr/chi_square.h"
@@ -16,29 +14,20 @@ Verdict VerifyBatch(const std::vector<std::pair<PoseId, PoseId>>& loop_ends,
   if (!problem.empty()) throw std::invalid_argument(problem);
   const ChiSquareQuantile chi2(options.alpha);
 
-  std::vector<int> order(loop_ends.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int x, int y) { return loop_ends[x] < loop_ends[y]; });
-  Clustering clustering(options.cluster_window);
   Verdict verdict;
-  verdict.cluster_of_loop.resize(loop_ends.size());
-  for (const int k : order) {
-    verdict.cluster_of_loop[k] =
-        clustering.Add(k, loop_ends[k].first, loop_ends[k].second);
-  }
-  verdict.clusters = clustering.clusters();
+  verdict.clusters = ClusterInBatchOrder(loop_ends, options.cluster_window,
+                                         &verdict.cluster_of_loop);
 
   const int num_clusters = static_cast<int>(verdict.clusters.size());
   std::vector<std::vector<int>> survivors;
   for (int c = 0; c < num_clusters; ++c) {
-    std::vector<int> kept =
-        IntraClusterConsistent(verdict.clusters[c].loops, solver, chi2);
+    std::vector<int> kept = IntraClusterConsistent(
+        verdict.clusters[c].loops, solver, chi2, options.span_gate);
     if (!kept.empty()) survivors.push_back(std::move(kept));
     if (progress) progress(c + 1, num_clusters);
   }
   const std::vector<bool> good =
-      InterClusterConsistent(survivors, solver, chi2);
+      InterClusterConsistent(survivors, solver, chi2, options.span_gate);
 
   std::vector<bool> accepted(loop_ends.size(), false);
   for (size_t c = 0; c < survivors.size(); ++c) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <numeric>
 
 namespace rrr {
 namespace {
@@ -28,6 +29,22 @@ int Clustering::Add(int loop, PoseId a, PoseId b) {
   }
   clusters_.push_back(Cluster{start, start, end, end, {loop}});
   return static_cast<int>(clusters_.size()) - 1;
+}
+
+std::vector<Cluster> ClusterInBatchOrder(
+    const std::vector<std::pair<PoseId, PoseId>>& loop_ends, PoseId window,
+    std::vector<int>* cluster_of_loop) {
+  std::vector<int> order(loop_ends.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int x, int y) { return loop_ends[x] < loop_ends[y]; });
+  Clustering clustering(window);
+  cluster_of_loop->assign(loop_ends.size(), -1);
+  for (const int k : order) {
+    (*cluster_of_loop)[k] =
+        clustering.Add(k, loop_ends[k].first, loop_ends[k].second);
+  }
+  return clustering.clusters();
 }
 
 }  // namespace rrr

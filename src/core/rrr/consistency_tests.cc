@@ -18,22 +18,40 @@ std::vector<int> LinksOf(const std::vector<std::vector<int>>& clusters,
 
 }  // namespace
 
+bool TotalErrorConsistent(const SubsetErrors& errors, int residual_dim,
+                          const ChiSquareQuantile& chi2, bool span_gate) {
+  const int edges = span_gate ? errors.num_spanned_edges : errors.num_edges;
+  return edges == 0 || errors.total_chi2 < chi2(residual_dim * edges);
+}
+
 std::vector<int> IntraClusterConsistent(const std::vector<int>& cluster,
                                         ConsistencySolver& solver,
-                                        const ChiSquareQuantile& chi2) {
-  const int e = solver.residual_dim();
-  const SubsetErrors errors = solver.Solve(cluster);
+                                        const ChiSquareQuantile& chi2,
+                                        bool span_gate) {
+  return IntraClusterSurvivors(cluster, solver.Solve(cluster),
+                               solver.residual_dim(), chi2, span_gate);
+}
+
+std::vector<int> IntraClusterSurvivors(const std::vector<int>& cluster,
+                                       const SubsetErrors& errors,
+                                       int residual_dim,
+                                       const ChiSquareQuantile& chi2,
+                                       bool span_gate) {
   std::vector<int> survivors;
-  if (!(errors.total_chi2 < chi2(e * errors.num_edges))) return survivors;
+  if (!TotalErrorConsistent(errors, residual_dim, chi2, span_gate)) {
+    return survivors;
+  }
   for (size_t k = 0; k < cluster.size(); ++k) {
-    if (errors.loop_chi2[k] < chi2(e)) survivors.push_back(cluster[k]);
+    if (errors.loop_chi2[k] < chi2(residual_dim)) {
+      survivors.push_back(cluster[k]);
+    }
   }
   return survivors;
 }
 
 std::vector<bool> InterClusterConsistent(
     const std::vector<std::vector<int>>& clusters, ConsistencySolver& solver,
-    const ChiSquareQuantile& chi2) {
+    const ChiSquareQuantile& chi2, bool span_gate) {
   const int e = solver.residual_dim();
   const int n = static_cast<int>(clusters.size());
   std::vector<bool> good(n, false), rejected(n, false);
@@ -72,7 +90,7 @@ std::vector<bool> InterClusterConsistent(
       const SubsetErrors errors = solver.Solve(links);
       const double links_chi2 = std::accumulate(errors.loop_chi2.begin(),
                                                 errors.loop_chi2.end(), 0.0);
-      if (errors.total_chi2 < chi2(e * errors.num_edges) &&
+      if (TotalErrorConsistent(errors, e, chi2, span_gate) &&
           links_chi2 < chi2(e * static_cast<int>(links.size()))) {
         for (const int c : h) good[c] = true;
         good_list.insert(good_list.end(), h.begin(), h.end());

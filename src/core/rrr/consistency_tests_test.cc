@@ -104,6 +104,19 @@ TEST(InterClusterConsistent, StopsWhenNoLinkIsJointlyConsistent) {
             (std::vector<bool>{true, false}));
 }
 
+TEST(TotalErrorConsistent, SpanGateCountsOnlyTheSpannedEdges) {
+  // A loop bends 10 edges of a 1000-edge graph by a total error of 100:
+  // the whole-graph gate χ²(3000) lets it pass, the span gate χ²(30) does not.
+  SubsetErrors errors;
+  errors.total_chi2 = 100.0;
+  errors.num_edges = 1000;
+  errors.num_spanned_edges = 10;
+  EXPECT_TRUE(TotalErrorConsistent(errors, 3, kChi2, /*span_gate=*/false));
+  EXPECT_FALSE(TotalErrorConsistent(errors, 3, kChi2, /*span_gate=*/true));
+  errors.total_chi2 = 20.0;
+  EXPECT_TRUE(TotalErrorConsistent(errors, 3, kChi2, /*span_gate=*/true));
+}
+
 TEST(ChiSquareQuantile, MatchesTables) {
   EXPECT_NEAR(kChi2(1), 3.841, 1e-3);
   EXPECT_NEAR(kChi2(3), 7.815, 1e-3);

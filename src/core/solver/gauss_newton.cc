@@ -49,6 +49,8 @@ class GaussNewton<Pose>::Problem {
     rhs_.resize(static_cast<Eigen::Index>(blocks) * D);
   }
 
+  int num_edges() const { return static_cast<int>(edges_.size()); }
+
   // One Gauss–Newton step on `x`; false if the system is not solvable.
   bool Step(std::vector<Pose>* x) {
     system_->SetZero();
@@ -115,9 +117,11 @@ template <class Pose>
 bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
                             int max_iterations,
                             const ConvergenceOptions* options,
-                            std::vector<Pose>* x, int* iterations_run) const {
+                            std::vector<Pose>* x, int* iterations_run,
+                            int* spanned_edges) const {
   *x = initial_;
   if (iterations_run) *iterations_run = 0;
+  if (spanned_edges) *spanned_edges = 0;
   // The stretch of chain that the active loops (and fixed poses) span. The
   // chain after it hangs free and follows odometry with zero error. The
   // chain before it is a rigid path from the fixed first pose: relative-pose
@@ -133,6 +137,7 @@ bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
   }
   if (last <= first) return true;
   Problem problem(graph_, active_loops, first, last);
+  if (spanned_edges) *spanned_edges = problem.num_edges();
   // Carries the free end of the chain along with its last constrained pose.
   const auto carry_tail = [&](std::vector<Pose>* y) {
     for (int p = last + 1; p < graph_.num_poses(); ++p) {
@@ -180,16 +185,20 @@ SubsetErrors GaussNewton<Pose>::Evaluate(const std::vector<int>& active_loops,
 template <class Pose>
 SubsetErrors GaussNewton<Pose>::Solve(const std::vector<int>& active_loops) {
   std::vector<Pose> x;
-  if (!Run(active_loops, iterations_, nullptr, &x, nullptr)) {
+  int spanned_edges = 0;
+  if (!Run(active_loops, iterations_, nullptr, &x, nullptr, &spanned_edges)) {
     SubsetErrors failed;
     failed.solved = false;
     failed.num_edges =
         static_cast<int>(graph_.odometry().size() + active_loops.size());
     failed.total_chi2 = std::numeric_limits<double>::infinity();
     failed.loop_chi2.assign(active_loops.size(), failed.total_chi2);
+    failed.num_spanned_edges = spanned_edges;
     return failed;
   }
-  return Evaluate(active_loops, x);
+  SubsetErrors errors = Evaluate(active_loops, x);
+  errors.num_spanned_edges = spanned_edges;
+  return errors;
 }
 
 template <class Pose>

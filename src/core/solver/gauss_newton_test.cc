@@ -189,6 +189,21 @@ TEST(GaussNewton, ReducedSolveEqualsDenseSolveOfTheWholeGraph) {
   }
 }
 
+TEST(GaussNewton, CountsTheEdgesTheActiveLoopsSpan) {
+  auto g = StraightLine(10, 8.0, 1.0);  // loop 0: poses 0 -> 10
+  Constraint<Pose2> e;
+  e.from = 6;
+  e.to = 3;
+  e.measurement = Pose2(-3, 0, 0);
+  g.AddEdge(e);  // loop 1: poses 3..6, three odometry edges
+  GaussNewton<Pose2> solver(g, 4);
+  EXPECT_EQ(solver.Solve({}).num_spanned_edges, 0);
+  EXPECT_EQ(solver.Solve({1}).num_spanned_edges, 3 + 1);
+  EXPECT_EQ(solver.Solve({0}).num_spanned_edges, 10 + 1);
+  EXPECT_EQ(solver.Solve({0, 1}).num_spanned_edges, 10 + 2);
+  EXPECT_EQ(solver.Solve({0, 1}).num_edges, 10 + 2);
+}
+
 TEST(GaussNewton, HoldsFixedPoses) {
   auto g = StraightLine(4, 2.0, 1.0);
   g.Fix(4);

@@ -1,0 +1,148 @@
+// Incremental RRR: waiting candidates, and equality with batch at the end.
+#include "rrr/rrr/incremental_verifier.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/batch_verifier.h"
+#include "rrr/sim/grid_world.h"
+#include "rrr/solver/gauss_newton.h"
+
+namespace rrr {
+namespace {
+
+using Pairs = std::set<std::pair<PoseId, PoseId>>;
+
+// Replays `graph` as a robot would produce it: pose after pose, each loop
+// candidate when its later pose exists, with an update after every pose.
+struct Replay {
+  IncrementalVerifier<Pose2> verifier;
+  int reversals = 0;
+
+  Replay(const PoseGraph<Pose2>& graph, const RrrOptions& options)
+      : verifier(options) {
+    std::vector<std::vector<int>> loops_at(graph.num_poses());
+    for (size_t k = 0; k < graph.loops().size(); ++k) {
+      const auto& l = graph.loops()[k];
+      loops_at[std::max(l.from, l.to)].push_back(static_cast<int>(k));
+    }
+    verifier.AddFirstPose(graph.ids()[0], graph.estimates()[0]);
+    std::vector<const Constraint<Pose2>*> step(graph.num_poses(), nullptr);
+    for (const auto& e : graph.odometry()) step[std::max(e.from, e.to)] = &e;
+    for (int p = 1; p < graph.num_poses(); ++p) {
+      const auto& e = *step[p];
+      verifier.AddOdometry(e.to == p ? e.measurement : e.measurement.inverse(),
+                           e.information);
+      for (const int k : loops_at[p]) {
+        const auto& l = graph.loops()[k];
+        verifier.AddLoop(graph.ids()[l.from], graph.ids()[l.to], l.measurement,
+                         l.information);
+      }
+      Count(verifier.Update());
+    }
+    Count(verifier.Finish());
+  }
+  void Count(const std::vector<DecisionChange>& changes) {
+    for (const auto& c : changes) {
+      reversals += c.previous != LoopState::kPending;
+    }
+  }
+  Pairs Accepted() const {
+    Pairs out;
+    for (int c = 0; c < verifier.num_candidates(); ++c) {
+      if (verifier.state(c) == LoopState::kAccepted)
+        out.insert(verifier.ends_of(c));
+    }
+    return out;
+  }
+};
+
+Pairs BatchAccepted(const PoseGraph<Pose2>& graph, const RrrOptions& options) {
+  GaussNewton<Pose2> solver(graph, options.iterations);
+  const Verdict v = VerifyBatch(LoopEnds(graph), solver, options);
+  Pairs out;
+  for (const int k : v.accepted) {
+    out.insert(
+        {graph.ids()[graph.loops()[k].from], graph.ids()[graph.loops()[k].to]});
+  }
+  return out;
+}
+
+TEST(IncrementalVerifier, EndsWithTheBatchDecisionsOnASpoiledWorld) {
+  GridWorldOptions world;
+  world.poses = 1500;
+  world.false_loops = 40;
+  world.group = 4;
+  const SimulatedWorld w = SimulateGridWorld(world);
+  RrrOptions options;
+  const Replay replay(w.graph, options);
+  EXPECT_EQ(replay.verifier.num_waiting(), 0);
+  for (int c = 0; c < replay.verifier.num_candidates(); ++c) {
+    EXPECT_NE(replay.verifier.state(c), LoopState::kPending);
+  }
+  const Pairs batch = BatchAccepted(w.graph, options);
+  EXPECT_FALSE(batch.empty());
+  EXPECT_EQ(replay.Accepted(), batch);
+  // Decisions were made along the way, not only at the end.
+  EXPECT_GT(replay.verifier.num_solves(), 0);
+}
+
+TEST(IncrementalVerifier, CandidatesWaitForTheirPoses) {
+  RrrOptions options;
+  IncrementalVerifier<Pose2> v(options);
+  v.AddFirstPose(0, Pose2());
+  const Pose2::Jacobian info = Pose2::Jacobian::Identity() * 100;
+  const int c = v.AddLoop(5, 0, Pose2(-5, 0, 0), info);
+  EXPECT_EQ(v.num_waiting(), 1);
+  EXPECT_EQ(v.loop_of(c), -1);
+  for (int k = 0; k < 5; ++k) v.AddOdometry(Pose2(1, 0, 0), info);
+  EXPECT_EQ(v.num_waiting(), 0);
+  EXPECT_EQ(v.loop_of(c), 0);
+  EXPECT_EQ(v.state(c), LoopState::kPending);
+  v.Finish();
+  EXPECT_EQ(v.state(c), LoopState::kAccepted);  // it agrees with odometry
+}
+
+TEST(IncrementalVerifier, RejectsCandidatesThatCanNeverExist) {
+  RrrOptions options;
+  IncrementalVerifier<Pose2> v(options);
+  const Pose2::Jacobian info = Pose2::Jacobian::Identity();
+  EXPECT_THROW(v.AddOdometry(Pose2(), info), std::logic_error);
+  v.AddFirstPose(10, Pose2());
+  EXPECT_THROW(v.AddLoop(11, 10, Pose2(), info), std::invalid_argument);
+  EXPECT_THROW(v.AddLoop(3, 20, Pose2(), info), std::invalid_argument);
+  EXPECT_EQ(v.num_candidates(), 0);
+}
+
+std::string DatasetDir() {
+  const char* env = std::getenv("RRR_DATASETS");
+  return env ? env : std::string(RRR_SOURCE_DIR) + "/../shared/datasets";
+}
+
+class IncrementalBicocca : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(IncrementalBicocca, EndsWithTheBatchDecisions) {
+  const std::string path =
+      DatasetDir() + "/bicocca25b/B25b_" + GetParam() + ".g2o";
+  if (!std::ifstream(path)) {
+    GTEST_SKIP() << "Bicocca 25b not found at " << path
+                 << " (set RRR_DATASETS to the datasets folder)";
+  }
+  const auto graph = std::get<PoseGraph2>(ReadG2o(path).graph);
+  RrrOptions options;
+  options.cluster_window = 50;
+  const Replay replay(graph, options);
+  EXPECT_EQ(replay.Accepted(), BatchAccepted(graph, options));
+}
+
+INSTANTIATE_TEST_SUITE_P(Levels, IncrementalBicocca,
+                         ::testing::Values("0.000", "0.150", "0.500"));
+
+}  // namespace
+}  // namespace rrr
