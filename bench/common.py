@@ -8,7 +8,7 @@ import sys
 import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-RRR = ROOT / "build" / "devel" / "lib" / "rrr_slam" / "rrr"
+RRR = ROOT / "_build" / "devel" / "lib" / "rrr_slam" / "rrr"
 
 
 def datasets_dir():

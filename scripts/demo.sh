@@ -4,7 +4,7 @@
 # score the result against the simulation's ground truth.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-RRR=build/devel/lib/rrr_slam/rrr
+RRR=_build/devel/lib/rrr_slam/rrr
 OUT=${1:-demo_output}
 mkdir -p "$OUT"
 "$RRR" simulate --false-loops 60 --group 3 -o "$OUT/world.g2o" -t "$OUT/false_loops.txt" \

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages rrr_slam needs and builds it (with its tests)
-# into ./build. Safe to run again: apt and the build are incremental.
+# into ./_build (not build/: rosrun ignores a package's build/ folder). Safe to run again: apt and the build are incremental.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -29,10 +29,10 @@ fi
 # catkin needs Debian's python, not a pyenv/venv one.
 export PATH=/usr/bin:$PATH
 export ROS_HOME=${ROS_HOME:-$(mktemp -d)} ROS_HOSTNAME=localhost
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release \
-  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 >build.log 2>&1 \
-  || { cat build.log; exit 1; }
-cmake --build build -j2 >>build.log 2>&1 || { tail -50 build.log; exit 1; }
-cmake --build build -j2 --target tests >>build.log 2>&1 || { tail -50 build.log; exit 1; }
-rm -f build.log
-echo "setup: built into $(pwd)/build (rrr: build/devel/lib/rrr_slam/rrr)"
+cmake -S . -B _build -DCMAKE_BUILD_TYPE=Release \
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 >_build.log 2>&1 \
+  || { cat _build.log; exit 1; }
+cmake --build _build -j2 >>_build.log 2>&1 || { tail -50 _build.log; exit 1; }
+cmake --build _build -j2 --target tests >>_build.log 2>&1 || { tail -50 _build.log; exit 1; }
+rm -f _build.log
+echo "setup: built into $(pwd)/_build (rrr: _build/devel/lib/rrr_slam/rrr)"

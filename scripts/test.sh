@@ -5,17 +5,17 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 export PATH=/usr/bin:$PATH
 export ROS_HOME=${ROS_HOME:-$(mktemp -d)} ROS_HOSTNAME=localhost
-rm -rf build/test_results
+rm -rf _build/test_results
 # run_tests always exits 0; catkin_test_results tells the truth.
-cmake --build build --target run_tests -- -j1 >build/run_tests.log 2>&1
-summary=$(catkin_test_results build/test_results --verbose)
+cmake --build _build --target run_tests -- -j1 >_build/run_tests.log 2>&1
+summary=$(catkin_test_results _build/test_results --verbose)
 status=$?
 echo "$summary" | tail -40
-echo "(full test output: build/run_tests.log)"
+echo "(full test output: _build/run_tests.log)"
 # The plain closing line, counted from the JUnit files (catkin's summary counts
 # each gtest case twice).
-total=$(cat build/test_results/*/*.xml | grep -c '<testcase ' || true)
-failed=$(cat build/test_results/*/*.xml | grep -cE '<(failure|error)[ >]' || true)
-skipped=$(cat build/test_results/*/*.xml | grep -cE '<skipped' || true)
+total=$(cat _build/test_results/*/*.xml | grep -c '<testcase ' || true)
+failed=$(cat _build/test_results/*/*.xml | grep -cE '<(failure|error)[ >]' || true)
+skipped=$(cat _build/test_results/*/*.xml | grep -cE '<skipped' || true)
 echo "tests: $((total - failed - skipped)) passed, $failed failed, $skipped skipped"
 exit $status

@@ -11,6 +11,7 @@ void AddOptimizeCommand(CLI::App& app);
 void AddSpoilCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
 void AddEvaluateCommand(CLI::App& app);
+void AddToBagCommand(CLI::App& app);
 
 }  // namespace rrr
 

@@ -19,6 +19,7 @@ int Run(int argc, char** argv) {
   rrr::AddSpoilCommand(app);
   rrr::AddSimulateCommand(app);
   rrr::AddEvaluateCommand(app);
+  rrr::AddToBagCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

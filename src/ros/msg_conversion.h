@@ -1,0 +1,42 @@
+// ROS messages <-> core types, and nothing else.
+#ifndef RRR_ROS_MSG_CONVERSION_H_
+#define RRR_ROS_MSG_CONVERSION_H_
+
+#include <string>
+
+#include <boost/array.hpp>
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Transform.h>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/graph/pose_graph.h"
+
+namespace rrr_ros {
+
+// A ROS pose as a core pose; 2D keeps x, y and yaw. Returns false (with a
+// reason) if a value is not finite or the quaternion is not near unit norm.
+bool FromRos(const geometry_msgs::Pose& in, rrr::Pose2* out, std::string* why);
+bool FromRos(const geometry_msgs::Pose& in, rrr::Pose3* out, std::string* why);
+
+geometry_msgs::Pose ToRos(const rrr::Pose2& pose);
+geometry_msgs::Pose ToRos(const rrr::Pose3& pose);
+geometry_msgs::Transform ToRosTransform(const rrr::Pose2& pose);
+geometry_msgs::Transform ToRosTransform(const rrr::Pose3& pose);
+
+// The information matrix of a PoseWithCovariance covariance (x y z roll
+// pitch yaw; 2D keeps x, y and yaw). Returns false (with a reason) if the
+// covariance is not finite, not symmetric or not positive definite.
+template <class Pose>
+bool InformationFromCovariance(const boost::array<double, 36>& covariance,
+                               typename rrr::Constraint<Pose>::Information* out,
+                               std::string* why);
+// The covariance of an information matrix, laid out as InformationFromCovariance
+// reads it (other entries 0).
+template <class Pose>
+boost::array<double, 36> CovarianceFromInformation(
+    const typename rrr::Constraint<Pose>::Information& information);
+
+}  // namespace rrr_ros
+
+#endif  // RRR_ROS_MSG_CONVERSION_H_

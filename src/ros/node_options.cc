@@ -1,0 +1,62 @@
+#include "node_options.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rrr_ros {
+namespace {
+
+[[noreturn]] void Bad(const ros::NodeHandle& nh, const std::string& name,
+                      const std::string& why) {
+  throw std::invalid_argument("parameter " + nh.resolveName(name) + ": " + why);
+}
+
+}  // namespace
+
+NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
+  NodeOptions o;
+  nh.param("dimension", o.dimension, o.dimension);
+  if (o.dimension != 2 && o.dimension != 3) Bad(nh, "dimension", "must be 2 or 3");
+  nh.param("map_frame", o.map_frame, o.map_frame);
+  nh.param("odom_frame", o.odom_frame, o.odom_frame);
+  nh.param("base_frame", o.base_frame, o.base_frame);
+  for (const auto& [name, frame] : {std::pair{"map_frame", &o.map_frame},
+                                    {"odom_frame", &o.odom_frame},
+                                    {"base_frame", &o.base_frame}}) {
+    if (frame->empty()) Bad(nh, name, "must not be empty");
+  }
+  if (o.map_frame == o.odom_frame) Bad(nh, "map_frame", "must differ from odom_frame");
+  nh.param("keyframe/translation", o.keyframe_translation, o.keyframe_translation);
+  nh.param("keyframe/rotation", o.keyframe_rotation, o.keyframe_rotation);
+  if (!(o.keyframe_translation >= 0)) Bad(nh, "keyframe/translation", "must be >= 0");
+  if (!(o.keyframe_rotation >= 0)) Bad(nh, "keyframe/rotation", "must be >= 0");
+  nh.param("odometry/use_covariance", o.use_odometry_covariance,
+           o.use_odometry_covariance);
+  const size_t dof = o.dimension == 2 ? 3 : 6;
+  o.odometry_information.assign(dof, 100.0);
+  nh.param("odometry/information", o.odometry_information, o.odometry_information);
+  if (o.odometry_information.size() != dof) {
+    Bad(nh, "odometry/information",
+        "needs " + std::to_string(dof) + " values (the diagonal)");
+  }
+  for (const double v : o.odometry_information) {
+    if (!(v > 0 && std::isfinite(v))) {
+      Bad(nh, "odometry/information", "values must be positive and finite");
+    }
+  }
+  nh.param("stamp_tolerance", o.stamp_tolerance, o.stamp_tolerance);
+  if (!(o.stamp_tolerance >= 0)) Bad(nh, "stamp_tolerance", "must be >= 0");
+  nh.param("tf_period", o.tf_period, o.tf_period);
+  if (!(o.tf_period > 0)) Bad(nh, "tf_period", "must be > 0");
+  nh.param("cluster_window", o.rrr.cluster_window, o.rrr.cluster_window);
+  nh.param("iterations", o.rrr.iterations, o.rrr.iterations);
+  nh.param("alpha", o.rrr.alpha, o.rrr.alpha);
+  nh.param("span_gate", o.rrr.span_gate, o.rrr.span_gate);
+  const std::string problem = o.rrr.Validate();
+  if (!problem.empty()) {
+    Bad(nh, problem.substr(0, problem.find(' ')), problem);
+  }
+  return o;
+}
+
+}  // namespace rrr_ros

@@ -1,0 +1,39 @@
+// rrr_node: reads its parameters, then runs the verifier node.
+#include <malloc.h>
+
+#include <memory>
+
+#include <ros/ros.h>
+
+#include "node_options.h"
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "verifier_node.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "rrr_node");
+  // Keep freed memory in the process: each solve sets up a new sparse problem.
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  ros::NodeHandle nh, private_nh("~");
+  rrr_ros::NodeOptions options;
+  try {
+    options = rrr_ros::NodeOptions::Read(private_nh);
+  } catch (const std::exception& e) {
+    ROS_FATAL("rrr_node: %s", e.what());
+    return 1;
+  }
+  // Two threads: services wait for the worker while the other keeps taking
+  // messages.
+  ros::AsyncSpinner spinner(2);
+  if (options.dimension == 2) {
+    rrr_ros::VerifierNode<rrr::Pose2> node(nh, private_nh, options);
+    spinner.start();
+    ros::waitForShutdown();
+  } else {
+    rrr_ros::VerifierNode<rrr::Pose3> node(nh, private_nh, options);
+    spinner.start();
+    ros::waitForShutdown();
+  }
+  return 0;
+}

@@ -1,0 +1,571 @@
+#include "verifier_node.h"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <future>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <nav_msgs/Path.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "msg_conversion.h"
+#include "rrr/io/g2o.h"
+#include "rrr/solver/gauss_newton.h"
+#include "rrr_slam/AcceptedGraph.h"
+#include "rrr_slam/Decisions.h"
+#include "rrr_slam/Keyframe.h"
+
+namespace rrr_ros {
+namespace {
+
+constexpr int kQueueSize = 10000;  // ROS subscriber queues; ours is unbounded
+constexpr double kPublishPeriod = 0.2;  // s between path/marker refreshes
+
+uint8_t ToMsg(rrr::LoopState s) {
+  switch (s) {
+    case rrr::LoopState::kAccepted:
+      return rrr_slam::LoopDecision::ACCEPTED;
+    case rrr::LoopState::kRejected:
+      return rrr_slam::LoopDecision::REJECTED;
+    case rrr::LoopState::kPending:
+      break;
+  }
+  return rrr_slam::LoopDecision::PENDING;
+}
+
+template <class Pose>
+rrr_slam::GraphEdge EdgeMsg(const rrr::PoseGraph<Pose>& g,
+                            const rrr::Constraint<Pose>& e) {
+  rrr_slam::GraphEdge out;
+  out.from_id = g.ids()[e.from];
+  out.to_id = g.ids()[e.to];
+  out.relative_pose = ToRos(e.measurement);
+  for (int r = 0; r < Pose::kDof; ++r) {
+    for (int c = 0; c < Pose::kDof; ++c) out.information.push_back(e.information(r, c));
+  }
+  return out;
+}
+
+geometry_msgs::Point PointOf(const geometry_msgs::Pose& p) { return p.position; }
+
+}  // namespace
+
+template <class Pose>
+VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
+                                 const NodeOptions& options)
+    : options_(options), nh_(nh), private_nh_(private_nh), verifier_(options.rrr) {
+  keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
+  path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
+  marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("graph", 1, true);
+  decision_pub_ = private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
+  graph_pub_ = private_nh_.advertise<rrr_slam::AcceptedGraph>("accepted_graph", 1, true);
+  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  save_srv_ = private_nh_.advertiseService("save_graph", &VerifierNode::OnSaveGraph, this);
+  status_srv_ = private_nh_.advertiseService("get_status", &VerifierNode::OnGetStatus, this);
+  finish_srv_ = private_nh_.advertiseService("finish", &VerifierNode::OnFinish, this);
+  tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period), &VerifierNode::OnTfTimer, this);
+  diagnostics_timer_ =
+      nh_.createTimer(ros::Duration(1.0), &VerifierNode::OnDiagnosticsTimer, this);
+  worker_ = std::thread(&VerifierNode::WorkerLoop, this);
+  odom_sub_ = nh_.subscribe("odom", kQueueSize, &VerifierNode::OnOdometry, this,
+                            ros::TransportHints().tcpNoDelay());
+  loop_sub_ = nh_.subscribe("loop_closures", kQueueSize, &VerifierNode::OnLoopClosure,
+                            this, ros::TransportHints().tcpNoDelay());
+}
+
+template <class Pose>
+VerifierNode<Pose>::~VerifierNode() {
+  odom_sub_.shutdown();
+  loop_sub_.shutdown();
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    stopping_ = true;
+  }
+  queue_cv_.notify_all();
+  worker_.join();
+}
+
+// ---- ROS threads ----------------------------------------------------------
+
+template <class Pose>
+void VerifierNode<Pose>::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
+  ++odometry_received_;
+  Enqueue(msg);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::OnLoopClosure(const rrr_slam::LoopClosure::ConstPtr& msg) {
+  ++loops_received_;
+  Enqueue(msg);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::Enqueue(Input input) {
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    queue_.push_back(std::move(input));
+    const auto length = static_cast<uint32_t>(queue_.size());
+    if (length > max_queue_length_) max_queue_length_ = length;
+  }
+  queue_cv_.notify_one();
+}
+
+template <class Pose>
+void VerifierNode<Pose>::RunOnWorker(const Request& request) {
+  std::promise<void> done;
+  Enqueue(Request([&] {
+    request();
+    done.set_value();
+  }));
+  done.get_future().wait();
+}
+
+template <class Pose>
+bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
+                                     rrr_slam::SaveGraph::Response& res) {
+  RunOnWorker([&] {
+    const auto& g = verifier_.graph();
+    if (g.num_poses() == 0) {
+      res.success = false;
+      res.message = "no keyframes yet";
+      return;
+    }
+    std::ofstream out(req.path);
+    if (!out) {
+      res.success = false;
+      res.message = "cannot open " + req.path + " for writing";
+      return;
+    }
+    const std::vector<int> loops =
+        req.with_candidates ? rrr::AllLoops(g) : verifier_.AcceptedLoops();
+    rrr::WriteG2o(g, map_, loops, out);
+    if (req.with_candidates) {
+      for (int c = 0; c < verifier_.num_candidates(); ++c) {
+        const auto [a, b] = verifier_.ends_of(c);
+        out << "# DECISION " << a << ' ' << b << ' ' << rrr::ToString(verifier_.state(c))
+            << (verifier_.loop_of(c) < 0 ? " waiting" : "") << '\n';
+      }
+    }
+    out.close();
+    res.success = static_cast<bool>(out);
+    res.message = res.success ? "wrote " + req.path : "write failed: " + req.path;
+  });
+  return true;
+}
+
+template <class Pose>
+bool VerifierNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
+                                     rrr_slam::GetStatus::Response& res) {
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    res = status_;
+  }
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    res.queue_length = static_cast<uint32_t>(queue_.size());
+  }
+  res.odometry_received = odometry_received_;
+  res.loop_closures_received = loops_received_;
+  res.max_queue_length = max_queue_length_;
+  res.inputs_dropped = 0;
+  return true;
+}
+
+template <class Pose>
+bool VerifierNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
+                                  rrr_slam::Finish::Response& res) {
+  RunOnWorker([&] {
+    UpdateAndPublish(true);
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    res.accepted = status_.accepted;
+    res.rejected = status_.rejected;
+    res.pending = status_.pending;
+    res.waiting = status_.waiting;
+  });
+  return true;
+}
+
+template <class Pose>
+void VerifierNode<Pose>::OnTfTimer(const ros::TimerEvent&) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!have_map_to_odom_) return;
+  // Stamped ahead so that lookups at the latest odometry time succeed.
+  geometry_msgs::TransformStamped t = map_to_odom_;
+  t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
+  tf_broadcaster_.sendTransform(t);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
+  rrr_slam::GetStatus::Request req;
+  rrr_slam::GetStatus::Response s;
+  OnGetStatus(req, s);
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time::now();
+  diagnostic_msgs::DiagnosticStatus status;
+  status.name = ros::this_node::getName() + ": loop-closure verification";
+  status.hardware_id = "rrr_slam";
+  status.level = s.invalid_messages > 0 ? diagnostic_msgs::DiagnosticStatus::WARN
+                                        : diagnostic_msgs::DiagnosticStatus::OK;
+  status.message = s.invalid_messages > 0 ? "invalid messages ignored" : "ok";
+  const auto add = [&status](const std::string& key, double value) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = key;
+    kv.value = std::to_string(value);
+    status.values.push_back(kv);
+  };
+  add("keyframes", s.keyframes);
+  add("candidates", s.candidates);
+  add("accepted", s.accepted);
+  add("rejected", s.rejected);
+  add("pending", s.pending);
+  add("waiting for a keyframe", s.waiting);
+  add("queue length", s.queue_length);
+  add("max queue length", s.max_queue_length);
+  add("last update (s)", s.last_update_seconds);
+  add("invalid messages", s.invalid_messages);
+  array.status.push_back(status);
+  diagnostics_pub_.publish(array);
+}
+
+// ---- Worker thread ---------------------------------------------------------
+
+template <class Pose>
+void VerifierNode<Pose>::WorkerLoop() {
+  while (true) {
+    std::deque<Input> batch;
+    {
+      std::unique_lock<std::mutex> lock(queue_mutex_);
+      queue_cv_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (stopping_ && queue_.empty()) return;
+      batch.swap(queue_);
+    }
+    bool pending_update = false;
+    for (Input& input : batch) {
+      if (auto* request = std::get_if<Request>(&input)) {
+        if (pending_update) UpdateAndPublish(false);
+        pending_update = false;
+        (*request)();
+        continue;
+      }
+      std::visit(
+          [this](const auto& msg) {
+            if constexpr (!std::is_same_v<std::decay_t<decltype(msg)>, Request>) {
+              Process(msg);
+            }
+          },
+          input);
+      pending_update = true;
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      ++status_.inputs_processed;
+    }
+    if (pending_update) UpdateAndPublish(false);
+  }
+}
+
+template <class Pose>
+void VerifierNode<Pose>::Invalid(const std::string& what, const std::string& why) {
+  uint64_t count;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    count = ++status_.invalid_messages;
+  }
+  ROS_WARN_THROTTLE(5.0, "rrr_node: ignored %s: %s (%lu invalid messages so far)",
+                    what.c_str(), why.c_str(), static_cast<unsigned long>(count));
+}
+
+template <class Pose>
+void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
+  const std::string what = "odometry message " + std::to_string(msg->header.seq);
+  if (!msg->header.frame_id.empty() && msg->header.frame_id != options_.odom_frame) {
+    return Invalid(what, "frame '" + msg->header.frame_id + "' is not the odometry frame '" +
+                             options_.odom_frame + "'");
+  }
+  Pose pose;
+  std::string why;
+  if (!FromRos(msg->pose.pose, &pose, &why)) return Invalid(what, why);
+  if (!keyframe_stamps_.empty() && msg->header.stamp < keyframe_stamps_.back()) {
+    return Invalid(what, "its stamp is older than the last keyframe's");
+  }
+  if (keyframe_odom_.empty()) {
+    verifier_.AddFirstPose(0, pose);
+    map_.push_back(pose);
+  } else {
+    const Pose motion = keyframe_odom_.back().between(pose);
+    const bool every = options_.keyframe_translation == 0 && options_.keyframe_rotation == 0;
+    if (!every && motion.translation().norm() <= options_.keyframe_translation &&
+        motion.angle() <= options_.keyframe_rotation) {
+      return;
+    }
+    Information information;
+    std::string ignored;
+    if (!options_.use_odometry_covariance ||
+        !InformationFromCovariance<Pose>(msg->pose.covariance, &information, &ignored)) {
+      information = Information::Zero();
+      for (int k = 0; k < Pose::kDof; ++k) {
+        information(k, k) = options_.odometry_information[k];
+      }
+    }
+    verifier_.AddOdometry(motion, information);
+    map_.push_back(map_.back() * motion);
+  }
+  keyframe_odom_.push_back(pose);
+  keyframe_stamps_.push_back(msg->header.stamp);
+  new_keyframes_ = true;
+  rrr_slam::Keyframe keyframe;
+  keyframe.header.stamp = msg->header.stamp;
+  keyframe.header.frame_id = options_.odom_frame;
+  keyframe.id = verifier_.graph().ids().back();
+  keyframe.pose = msg->pose.pose;
+  keyframe_pub_.publish(keyframe);
+  ResolveStampedLoops();
+}
+
+template <class Pose>
+int VerifierNode<Pose>::KeyframeAt(const ros::Time& stamp) const {
+  if (keyframe_stamps_.empty() || stamp > keyframe_stamps_.back()) return -2;
+  const auto it = std::lower_bound(keyframe_stamps_.begin(), keyframe_stamps_.end(), stamp);
+  int best = -1;
+  double best_dt = options_.stamp_tolerance;
+  for (const auto c : {it - 1, it}) {
+    if (c < keyframe_stamps_.begin() || c >= keyframe_stamps_.end()) continue;
+    const double dt = std::abs((*c - stamp).toSec());
+    if (dt <= best_dt) {
+      best_dt = dt;
+      best = static_cast<int>(c - keyframe_stamps_.begin());
+    }
+  }
+  return best;
+}
+
+template <class Pose>
+void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
+  const std::string what = "loop closure message " + std::to_string(msg->header.seq);
+  if (!msg->header.frame_id.empty() && msg->header.frame_id != options_.base_frame) {
+    return Invalid(what, "frame '" + msg->header.frame_id + "' is not the robot frame '" +
+                             options_.base_frame + "'");
+  }
+  if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
+    AddLoopCandidate(*msg, msg->from_id, msg->to_id);
+  } else if (msg->reference == rrr_slam::LoopClosure::BY_STAMP) {
+    stamped_waiting_.push_back(*msg);
+    ResolveStampedLoops();
+  } else {
+    Invalid(what, "reference " + std::to_string(msg->reference) +
+                      " is neither BY_ID nor BY_STAMP");
+  }
+}
+
+template <class Pose>
+void VerifierNode<Pose>::ResolveStampedLoops() {
+  auto keep = stamped_waiting_.begin();
+  for (auto& msg : stamped_waiting_) {
+    const int from = KeyframeAt(msg.from_stamp), to = KeyframeAt(msg.to_stamp);
+    if (from == -2 || to == -2) {
+      *keep++ = std::move(msg);
+    } else if (from < 0 || to < 0) {
+      Invalid("loop closure message " + std::to_string(msg.header.seq),
+              "no keyframe within " + std::to_string(options_.stamp_tolerance) +
+                  " s of its " + (from < 0 ? "from" : "to") + " stamp");
+    } else {
+      AddLoopCandidate(msg, verifier_.graph().ids()[from], verifier_.graph().ids()[to]);
+    }
+  }
+  stamped_waiting_.erase(keep, stamped_waiting_.end());
+}
+
+template <class Pose>
+void VerifierNode<Pose>::AddLoopCandidate(const rrr_slam::LoopClosure& msg,
+                                          rrr::PoseId from, rrr::PoseId to) {
+  const std::string what = "loop closure message " + std::to_string(msg.header.seq);
+  Pose z;
+  Information information;
+  std::string why;
+  if (!FromRos(msg.relative_pose.pose, &z, &why) ||
+      !InformationFromCovariance<Pose>(msg.relative_pose.covariance, &information, &why)) {
+    return Invalid(what, why);
+  }
+  if (from < 0 || to < 0) return Invalid(what, "keyframe ids start at 0");
+  try {
+    verifier_.AddLoop(from, to, z, information);
+  } catch (const std::invalid_argument& e) {
+    return Invalid(what, e.what());
+  }
+}
+
+template <class Pose>
+void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<rrr::DecisionChange> changes =
+      finish ? verifier_.Finish() : verifier_.Update();
+  const std::vector<int> accepted = verifier_.AcceptedLoops();
+  const bool accepted_changed = accepted != last_accepted_;
+  if (accepted_changed || finish) {
+    last_accepted_ = accepted;
+    RecomputeMap();
+    PublishAcceptedGraph();
+  }
+  if (!changes.empty() || finish) PublishDecisions(changes);
+  const ros::WallTime now = ros::WallTime::now();
+  if (accepted_changed || finish || !changes.empty() ||
+      (new_keyframes_ && (now - last_publish_).toSec() >= kPublishPeriod)) {
+    PublishPath();
+    PublishMarkers();
+    last_publish_ = now;
+    new_keyframes_ = false;
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!map_.empty()) {
+    const Pose correction = map_.back() * keyframe_odom_.back().inverse();
+    map_to_odom_.header.frame_id = options_.map_frame;
+    map_to_odom_.child_frame_id = options_.odom_frame;
+    map_to_odom_.transform = ToRosTransform(correction);
+    have_map_to_odom_ = true;
+    geometry_msgs::TransformStamped t = map_to_odom_;
+    t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
+    tf_broadcaster_.sendTransform(t);
+  }
+  status_.keyframes = verifier_.graph().num_poses();
+  status_.candidates = verifier_.num_candidates();
+  status_.accepted = status_.rejected = status_.pending = 0;
+  for (int c = 0; c < verifier_.num_candidates(); ++c) {
+    switch (verifier_.state(c)) {
+      case rrr::LoopState::kAccepted:
+        ++status_.accepted;
+        break;
+      case rrr::LoopState::kRejected:
+        ++status_.rejected;
+        break;
+      case rrr::LoopState::kPending:
+        ++status_.pending;
+        break;
+    }
+  }
+  status_.waiting = verifier_.num_waiting() + static_cast<uint32_t>(stamped_waiting_.size());
+  status_.clusters = verifier_.num_clusters();
+  ++status_.updates;
+  status_.last_update_seconds = seconds;
+  status_.max_update_seconds = std::max(status_.max_update_seconds, seconds);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::RecomputeMap() {
+  const auto& graph = verifier_.graph();
+  if (graph.num_poses() == 0) return;
+  rrr::GaussNewton<Pose> solver(graph, 1);
+  map_ = solver.Optimize(last_accepted_, rrr::ConvergenceOptions());
+  // The map frame is the odometry frame of the first keyframe.
+  const Pose shift = keyframe_odom_.front() * map_.front().inverse();
+  for (Pose& p : map_) p = shift * p;
+}
+
+template <class Pose>
+void VerifierNode<Pose>::PublishDecisions(const std::vector<rrr::DecisionChange>& changes) {
+  rrr_slam::Decisions msg;
+  msg.header.stamp = ros::Time::now();
+  msg.header.frame_id = options_.map_frame;
+  std::vector<int> previous(verifier_.num_candidates(), -1);
+  for (const auto& c : changes) previous[c.candidate] = static_cast<int>(c.previous);
+  for (int c = 0; c < verifier_.num_candidates(); ++c) {
+    rrr_slam::LoopDecision d;
+    d.candidate = c;
+    std::tie(d.from_id, d.to_id) = verifier_.ends_of(c);
+    d.state = ToMsg(verifier_.state(c));
+    d.cluster = verifier_.cluster_of(c);
+    d.waiting = verifier_.loop_of(c) < 0;
+    d.previous_state =
+        previous[c] < 0 ? d.state : ToMsg(static_cast<rrr::LoopState>(previous[c]));
+    d.reversed = previous[c] >= 0 && previous[c] != static_cast<int>(rrr::LoopState::kPending);
+    if (previous[c] >= 0) msg.changed.push_back(c);
+    msg.accepted += d.state == rrr_slam::LoopDecision::ACCEPTED;
+    msg.rejected += d.state == rrr_slam::LoopDecision::REJECTED;
+    msg.pending += d.state == rrr_slam::LoopDecision::PENDING;
+    msg.decisions.push_back(d);
+  }
+  decision_pub_.publish(msg);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::PublishPath() {
+  nav_msgs::Path path;
+  path.header.stamp = keyframe_stamps_.empty() ? ros::Time::now() : keyframe_stamps_.back();
+  path.header.frame_id = options_.map_frame;
+  for (size_t k = 0; k < map_.size(); ++k) {
+    geometry_msgs::PoseStamped p;
+    p.header.stamp = keyframe_stamps_[k];
+    p.header.frame_id = options_.map_frame;
+    p.pose = ToRos(map_[k]);
+    path.poses.push_back(p);
+  }
+  path_pub_.publish(path);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::PublishMarkers() {
+  visualization_msgs::MarkerArray array;
+  const auto make = [this](const std::string& ns, int type, float r, float g, float b,
+                           double width) {
+    visualization_msgs::Marker m;
+    m.header.frame_id = options_.map_frame;
+    m.header.stamp = ros::Time::now();
+    m.ns = ns;
+    m.id = 0;
+    m.type = type;
+    m.action = visualization_msgs::Marker::ADD;
+    m.pose.orientation.w = 1.0;
+    m.scale.x = width;
+    m.scale.y = width;
+    m.color.r = r;
+    m.color.g = g;
+    m.color.b = b;
+    m.color.a = 1.0;
+    return m;
+  };
+  auto odometry = make("odometry", visualization_msgs::Marker::LINE_STRIP, 0.2f, 0.4f, 1.0f, 0.05);
+  auto poses = make("poses", visualization_msgs::Marker::POINTS, 0.1f, 0.1f, 0.6f, 0.08);
+  auto accepted = make("accepted", visualization_msgs::Marker::LINE_LIST, 0.0f, 0.9f, 0.0f, 0.08);
+  auto rejected = make("rejected", visualization_msgs::Marker::LINE_LIST, 0.9f, 0.0f, 0.0f, 0.04);
+  auto pending = make("pending", visualization_msgs::Marker::LINE_LIST, 1.0f, 0.85f, 0.0f, 0.06);
+  for (const Pose& p : map_) {
+    odometry.points.push_back(PointOf(ToRos(p)));
+    poses.points.push_back(PointOf(ToRos(p)));
+  }
+  const auto& graph = verifier_.graph();
+  for (int c = 0; c < verifier_.num_candidates(); ++c) {
+    const int loop = verifier_.loop_of(c);
+    if (loop < 0) continue;
+    const auto& e = graph.loops()[loop];
+    auto& list = verifier_.state(c) == rrr::LoopState::kAccepted   ? accepted
+                 : verifier_.state(c) == rrr::LoopState::kRejected ? rejected
+                                                                   : pending;
+    list.points.push_back(PointOf(ToRos(map_[e.from])));
+    list.points.push_back(PointOf(ToRos(map_[e.to])));
+  }
+  for (auto* m : {&odometry, &poses, &accepted, &rejected, &pending}) {
+    // An empty list is still sent (with no points) to clear an old one.
+    array.markers.push_back(*m);
+  }
+  marker_pub_.publish(array);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::PublishAcceptedGraph() {
+  rrr_slam::AcceptedGraph msg;
+  msg.header.stamp = ros::Time::now();
+  msg.header.frame_id = options_.map_frame;
+  const auto& graph = verifier_.graph();
+  msg.ids = graph.ids();
+  for (const Pose& p : map_) msg.poses.push_back(ToRos(p));
+  for (const auto& e : graph.odometry()) msg.odometry.push_back(EdgeMsg(graph, e));
+  for (const int k : last_accepted_) msg.loops.push_back(EdgeMsg(graph, graph.loops()[k]));
+  graph_pub_.publish(msg);
+}
+
+template class VerifierNode<rrr::Pose2>;
+template class VerifierNode<rrr::Pose3>;
+
+}  // namespace rrr_ros

@@ -1,0 +1,120 @@
+// rrr_node: incremental RRR next to a place-recognition front-end.
+#ifndef RRR_ROS_VERIFIER_NODE_H_
+#define RRR_ROS_VERIFIER_NODE_H_
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "node_options.h"
+#include "rrr/rrr/incremental_verifier.h"
+#include "rrr_slam/Finish.h"
+#include "rrr_slam/GetStatus.h"
+#include "rrr_slam/LoopClosure.h"
+#include "rrr_slam/SaveGraph.h"
+
+namespace rrr_ros {
+
+// The adapter between ROS and rrr::IncrementalVerifier. Callbacks only queue
+// their input; one worker thread owns the verifier and its solver, takes the
+// queue in batches (so it catches up when inputs come faster than it judges),
+// and publishes. Services that need the verifier are queued as well, so they
+// see every input received before them.
+template <class Pose>
+class VerifierNode {
+ public:
+  // Advertises and subscribes; throws std::invalid_argument on bad options.
+  VerifierNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
+               const NodeOptions& options);
+  ~VerifierNode();
+
+ private:
+  using Information = typename rrr::Constraint<Pose>::Information;
+  using Request = std::function<void()>;  // runs on the worker
+  using Input = std::variant<nav_msgs::Odometry::ConstPtr,
+                             rrr_slam::LoopClosure::ConstPtr, Request>;
+
+  // ROS threads: record and return.
+  void OnOdometry(const nav_msgs::Odometry::ConstPtr& msg);
+  void OnLoopClosure(const rrr_slam::LoopClosure::ConstPtr& msg);
+  void Enqueue(Input input);
+  // Queues `request` for the worker and waits until it has run.
+  void RunOnWorker(const Request& request);
+  bool OnSaveGraph(rrr_slam::SaveGraph::Request& req,
+                   rrr_slam::SaveGraph::Response& res);
+  bool OnGetStatus(rrr_slam::GetStatus::Request& req,
+                   rrr_slam::GetStatus::Response& res);
+  bool OnFinish(rrr_slam::Finish::Request& req, rrr_slam::Finish::Response& res);
+  void OnTfTimer(const ros::TimerEvent& event);
+  void OnDiagnosticsTimer(const ros::TimerEvent& event);
+
+  // Worker thread.
+  void WorkerLoop();
+  void Process(const nav_msgs::Odometry::ConstPtr& msg);
+  void Process(const rrr_slam::LoopClosure::ConstPtr& msg);
+  // Keyframe index nearest to `stamp` within the tolerance: -1 if none can
+  // ever be, -2 if one may still come.
+  int KeyframeAt(const ros::Time& stamp) const;
+  void AddLoopCandidate(const rrr_slam::LoopClosure& msg, rrr::PoseId from,
+                        rrr::PoseId to);
+  void ResolveStampedLoops();
+  // Runs the decision procedure (or, with `finish`, judges everything) and
+  // publishes what changed.
+  void UpdateAndPublish(bool finish);
+  void RecomputeMap();
+  void PublishDecisions(const std::vector<rrr::DecisionChange>& changes);
+  void PublishPath();
+  void PublishMarkers();
+  void PublishAcceptedGraph();
+  void Invalid(const std::string& what, const std::string& why);
+
+  const NodeOptions options_;
+  ros::NodeHandle nh_, private_nh_;
+  ros::Subscriber odom_sub_, loop_sub_;
+  ros::Publisher keyframe_pub_, path_pub_, marker_pub_, decision_pub_,
+      graph_pub_, diagnostics_pub_;
+  ros::ServiceServer save_srv_, status_srv_, finish_srv_;
+  ros::Timer tf_timer_, diagnostics_timer_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+
+  // The queue between the callbacks and the worker.
+  std::mutex queue_mutex_;
+  std::condition_variable queue_cv_;
+  std::deque<Input> queue_;
+  bool stopping_ = false;
+  std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
+  std::atomic<uint32_t> max_queue_length_{0};
+
+  // Worker state (touched only by the worker).
+  rrr::IncrementalVerifier<Pose> verifier_;
+  std::vector<ros::Time> keyframe_stamps_;
+  std::vector<Pose> keyframe_odom_;  // odometry pose of each keyframe
+  std::vector<Pose> map_;            // corrected pose of each keyframe
+  int map_size_ = 0;                 // keyframes covered by the last optimization
+  std::vector<int> last_accepted_;
+  std::vector<rrr_slam::LoopClosure> stamped_waiting_;
+  std::vector<ros::Time> candidate_stamps_;
+  bool new_keyframes_ = false;
+  ros::WallTime last_publish_;  // of the path and the markers
+  std::thread worker_;
+
+  // Shared with the ROS threads under `state_mutex_`.
+  std::mutex state_mutex_;
+  geometry_msgs::TransformStamped map_to_odom_;
+  bool have_map_to_odom_ = false;
+  rrr_slam::GetStatus::Response status_;
+};
+
+}  // namespace rrr_ros
+
+#endif  // RRR_ROS_VERIFIER_NODE_H_
