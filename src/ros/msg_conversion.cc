@@ -1,9 +1,8 @@
 #include "msg_conversion.h"
 
-#include <cmath>
-
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <cmath>
 
 namespace rrr_ros {
 namespace {
@@ -52,7 +51,8 @@ bool FromRos(const geometry_msgs::Pose& in, rrr::Pose2* out, std::string* why) {
 bool FromRos(const geometry_msgs::Pose& in, rrr::Pose3* out, std::string* why) {
   Eigen::Quaterniond q;
   if (!QuaternionFromRos(in, &q, why)) return false;
-  *out = rrr::Pose3(q, Eigen::Vector3d(in.position.x, in.position.y, in.position.z));
+  *out = rrr::Pose3(
+      q, Eigen::Vector3d(in.position.x, in.position.y, in.position.z));
   return true;
 }
 

@@ -2,11 +2,11 @@
 #ifndef RRR_ROS_MSG_CONVERSION_H_
 #define RRR_ROS_MSG_CONVERSION_H_
 
-#include <string>
-
-#include <boost/array.hpp>
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Transform.h>
+
+#include <boost/array.hpp>
+#include <string>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -31,8 +31,8 @@ template <class Pose>
 bool InformationFromCovariance(const boost::array<double, 36>& covariance,
                                typename rrr::Constraint<Pose>::Information* out,
                                std::string* why);
-// The covariance of an information matrix, laid out as InformationFromCovariance
-// reads it (other entries 0).
+// The covariance of an information matrix, laid out as
+// InformationFromCovariance reads it (other entries 0).
 template <class Pose>
 boost::array<double, 36> CovarianceFromInformation(
     const typename rrr::Constraint<Pose>::Information& information);

@@ -16,7 +16,8 @@ namespace {
 NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   NodeOptions o;
   nh.param("dimension", o.dimension, o.dimension);
-  if (o.dimension != 2 && o.dimension != 3) Bad(nh, "dimension", "must be 2 or 3");
+  if (o.dimension != 2 && o.dimension != 3)
+    Bad(nh, "dimension", "must be 2 or 3");
   nh.param("map_frame", o.map_frame, o.map_frame);
   nh.param("odom_frame", o.odom_frame, o.odom_frame);
   nh.param("base_frame", o.base_frame, o.base_frame);
@@ -25,16 +26,20 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
                                     {"base_frame", &o.base_frame}}) {
     if (frame->empty()) Bad(nh, name, "must not be empty");
   }
-  if (o.map_frame == o.odom_frame) Bad(nh, "map_frame", "must differ from odom_frame");
-  nh.param("keyframe/translation", o.keyframe_translation, o.keyframe_translation);
+  if (o.map_frame == o.odom_frame)
+    Bad(nh, "map_frame", "must differ from odom_frame");
+  nh.param("keyframe/translation", o.keyframe_translation,
+           o.keyframe_translation);
   nh.param("keyframe/rotation", o.keyframe_rotation, o.keyframe_rotation);
-  if (!(o.keyframe_translation >= 0)) Bad(nh, "keyframe/translation", "must be >= 0");
+  if (!(o.keyframe_translation >= 0))
+    Bad(nh, "keyframe/translation", "must be >= 0");
   if (!(o.keyframe_rotation >= 0)) Bad(nh, "keyframe/rotation", "must be >= 0");
   nh.param("odometry/use_covariance", o.use_odometry_covariance,
            o.use_odometry_covariance);
   const size_t dof = o.dimension == 2 ? 3 : 6;
   o.odometry_information.assign(dof, 100.0);
-  nh.param("odometry/information", o.odometry_information, o.odometry_information);
+  nh.param("odometry/information", o.odometry_information,
+           o.odometry_information);
   if (o.odometry_information.size() != dof) {
     Bad(nh, "odometry/information",
         "needs " + std::to_string(dof) + " values (the diagonal)");

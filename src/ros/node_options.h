@@ -2,10 +2,10 @@
 #ifndef RRR_ROS_NODE_OPTIONS_H_
 #define RRR_ROS_NODE_OPTIONS_H_
 
+#include <ros/node_handle.h>
+
 #include <string>
 #include <vector>
-
-#include <ros/node_handle.h>
 
 #include "rrr/rrr/options.h"
 

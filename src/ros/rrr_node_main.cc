@@ -1,9 +1,8 @@
 // rrr_node: reads its parameters, then runs the verifier node.
 #include <malloc.h>
+#include <ros/ros.h>
 
 #include <memory>
-
-#include <ros/ros.h>
 
 #include "node_options.h"
 #include "rrr/geometry/pose2.h"

@@ -1,13 +1,13 @@
 #include "verifier_node.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <nav_msgs/Path.h>
+#include <visualization_msgs/MarkerArray.h>
+
 #include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <future>
-
-#include <diagnostic_msgs/DiagnosticArray.h>
-#include <nav_msgs/Path.h>
-#include <visualization_msgs/MarkerArray.h>
 
 #include "msg_conversion.h"
 #include "rrr/io/g2o.h"
@@ -42,36 +42,52 @@ rrr_slam::GraphEdge EdgeMsg(const rrr::PoseGraph<Pose>& g,
   out.to_id = g.ids()[e.to];
   out.relative_pose = ToRos(e.measurement);
   for (int r = 0; r < Pose::kDof; ++r) {
-    for (int c = 0; c < Pose::kDof; ++c) out.information.push_back(e.information(r, c));
+    for (int c = 0; c < Pose::kDof; ++c)
+      out.information.push_back(e.information(r, c));
   }
   return out;
 }
 
-geometry_msgs::Point PointOf(const geometry_msgs::Pose& p) { return p.position; }
+geometry_msgs::Point PointOf(const geometry_msgs::Pose& p) {
+  return p.position;
+}
 
 }  // namespace
 
 template <class Pose>
-VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
+VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
+                                 ros::NodeHandle& private_nh,
                                  const NodeOptions& options)
-    : options_(options), nh_(nh), private_nh_(private_nh), verifier_(options.rrr) {
+    : options_(options),
+      nh_(nh),
+      private_nh_(private_nh),
+      verifier_(options.rrr) {
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
-  marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("graph", 1, true);
-  decision_pub_ = private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
-  graph_pub_ = private_nh_.advertise<rrr_slam::AcceptedGraph>("accepted_graph", 1, true);
-  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
-  save_srv_ = private_nh_.advertiseService("save_graph", &VerifierNode::OnSaveGraph, this);
-  status_srv_ = private_nh_.advertiseService("get_status", &VerifierNode::OnGetStatus, this);
-  finish_srv_ = private_nh_.advertiseService("finish", &VerifierNode::OnFinish, this);
-  tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period), &VerifierNode::OnTfTimer, this);
-  diagnostics_timer_ =
-      nh_.createTimer(ros::Duration(1.0), &VerifierNode::OnDiagnosticsTimer, this);
+  marker_pub_ =
+      private_nh_.advertise<visualization_msgs::MarkerArray>("graph", 1, true);
+  decision_pub_ =
+      private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
+  graph_pub_ =
+      private_nh_.advertise<rrr_slam::AcceptedGraph>("accepted_graph", 1, true);
+  diagnostics_pub_ =
+      nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  save_srv_ = private_nh_.advertiseService("save_graph",
+                                           &VerifierNode::OnSaveGraph, this);
+  status_srv_ = private_nh_.advertiseService("get_status",
+                                             &VerifierNode::OnGetStatus, this);
+  finish_srv_ =
+      private_nh_.advertiseService("finish", &VerifierNode::OnFinish, this);
+  tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period),
+                              &VerifierNode::OnTfTimer, this);
+  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0),
+                                       &VerifierNode::OnDiagnosticsTimer, this);
   worker_ = std::thread(&VerifierNode::WorkerLoop, this);
   odom_sub_ = nh_.subscribe("odom", kQueueSize, &VerifierNode::OnOdometry, this,
                             ros::TransportHints().tcpNoDelay());
-  loop_sub_ = nh_.subscribe("loop_closures", kQueueSize, &VerifierNode::OnLoopClosure,
-                            this, ros::TransportHints().tcpNoDelay());
+  loop_sub_ =
+      nh_.subscribe("loop_closures", kQueueSize, &VerifierNode::OnLoopClosure,
+                    this, ros::TransportHints().tcpNoDelay());
 }
 
 template <class Pose>
@@ -95,7 +111,8 @@ void VerifierNode<Pose>::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
 }
 
 template <class Pose>
-void VerifierNode<Pose>::OnLoopClosure(const rrr_slam::LoopClosure::ConstPtr& msg) {
+void VerifierNode<Pose>::OnLoopClosure(
+    const rrr_slam::LoopClosure::ConstPtr& msg) {
   ++loops_received_;
   Enqueue(msg);
 }
@@ -143,13 +160,15 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
     if (req.with_candidates) {
       for (int c = 0; c < verifier_.num_candidates(); ++c) {
         const auto [a, b] = verifier_.ends_of(c);
-        out << "# DECISION " << a << ' ' << b << ' ' << rrr::ToString(verifier_.state(c))
+        out << "# DECISION " << a << ' ' << b << ' '
+            << rrr::ToString(verifier_.state(c))
             << (verifier_.loop_of(c) < 0 ? " waiting" : "") << '\n';
       }
     }
     out.close();
     res.success = static_cast<bool>(out);
-    res.message = res.success ? "wrote " + req.path : "write failed: " + req.path;
+    res.message =
+        res.success ? "wrote " + req.path : "write failed: " + req.path;
   });
   return true;
 }
@@ -206,8 +225,9 @@ void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
   diagnostic_msgs::DiagnosticStatus status;
   status.name = ros::this_node::getName() + ": loop-closure verification";
   status.hardware_id = "rrr_slam";
-  status.level = s.invalid_messages > 0 ? diagnostic_msgs::DiagnosticStatus::WARN
-                                        : diagnostic_msgs::DiagnosticStatus::OK;
+  status.level = s.invalid_messages > 0
+                     ? diagnostic_msgs::DiagnosticStatus::WARN
+                     : diagnostic_msgs::DiagnosticStatus::OK;
   status.message = s.invalid_messages > 0 ? "invalid messages ignored" : "ok";
   const auto add = [&status](const std::string& key, double value) {
     diagnostic_msgs::KeyValue kv;
@@ -251,7 +271,8 @@ void VerifierNode<Pose>::WorkerLoop() {
       }
       std::visit(
           [this](const auto& msg) {
-            if constexpr (!std::is_same_v<std::decay_t<decltype(msg)>, Request>) {
+            if constexpr (!std::is_same_v<std::decay_t<decltype(msg)>,
+                                          Request>) {
               Process(msg);
             }
           },
@@ -265,27 +286,33 @@ void VerifierNode<Pose>::WorkerLoop() {
 }
 
 template <class Pose>
-void VerifierNode<Pose>::Invalid(const std::string& what, const std::string& why) {
+void VerifierNode<Pose>::Invalid(const std::string& what,
+                                 const std::string& why) {
   uint64_t count;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     count = ++status_.invalid_messages;
   }
-  ROS_WARN_THROTTLE(5.0, "rrr_node: ignored %s: %s (%lu invalid messages so far)",
-                    what.c_str(), why.c_str(), static_cast<unsigned long>(count));
+  ROS_WARN_THROTTLE(
+      5.0, "rrr_node: ignored %s: %s (%lu invalid messages so far)",
+      what.c_str(), why.c_str(), static_cast<unsigned long>(count));
 }
 
 template <class Pose>
 void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
-  const std::string what = "odometry message " + std::to_string(msg->header.seq);
-  if (!msg->header.frame_id.empty() && msg->header.frame_id != options_.odom_frame) {
-    return Invalid(what, "frame '" + msg->header.frame_id + "' is not the odometry frame '" +
+  const std::string what =
+      "odometry message " + std::to_string(msg->header.seq);
+  if (!msg->header.frame_id.empty() &&
+      msg->header.frame_id != options_.odom_frame) {
+    return Invalid(what, "frame '" + msg->header.frame_id +
+                             "' is not the odometry frame '" +
                              options_.odom_frame + "'");
   }
   Pose pose;
   std::string why;
   if (!FromRos(msg->pose.pose, &pose, &why)) return Invalid(what, why);
-  if (!keyframe_stamps_.empty() && msg->header.stamp < keyframe_stamps_.back()) {
+  if (!keyframe_stamps_.empty() &&
+      msg->header.stamp < keyframe_stamps_.back()) {
     return Invalid(what, "its stamp is older than the last keyframe's");
   }
   if (keyframe_odom_.empty()) {
@@ -293,15 +320,18 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
     map_.push_back(pose);
   } else {
     const Pose motion = keyframe_odom_.back().between(pose);
-    const bool every = options_.keyframe_translation == 0 && options_.keyframe_rotation == 0;
-    if (!every && motion.translation().norm() <= options_.keyframe_translation &&
+    const bool every =
+        options_.keyframe_translation == 0 && options_.keyframe_rotation == 0;
+    if (!every &&
+        motion.translation().norm() <= options_.keyframe_translation &&
         motion.angle() <= options_.keyframe_rotation) {
       return;
     }
     Information information;
     std::string ignored;
     if (!options_.use_odometry_covariance ||
-        !InformationFromCovariance<Pose>(msg->pose.covariance, &information, &ignored)) {
+        !InformationFromCovariance<Pose>(msg->pose.covariance, &information,
+                                         &ignored)) {
       information = Information::Zero();
       for (int k = 0; k < Pose::kDof; ++k) {
         information(k, k) = options_.odometry_information[k];
@@ -325,7 +355,8 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
 template <class Pose>
 int VerifierNode<Pose>::KeyframeAt(const ros::Time& stamp) const {
   if (keyframe_stamps_.empty() || stamp > keyframe_stamps_.back()) return -2;
-  const auto it = std::lower_bound(keyframe_stamps_.begin(), keyframe_stamps_.end(), stamp);
+  const auto it =
+      std::lower_bound(keyframe_stamps_.begin(), keyframe_stamps_.end(), stamp);
   int best = -1;
   double best_dt = options_.stamp_tolerance;
   for (const auto c : {it - 1, it}) {
@@ -341,9 +372,12 @@ int VerifierNode<Pose>::KeyframeAt(const ros::Time& stamp) const {
 
 template <class Pose>
 void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
-  const std::string what = "loop closure message " + std::to_string(msg->header.seq);
-  if (!msg->header.frame_id.empty() && msg->header.frame_id != options_.base_frame) {
-    return Invalid(what, "frame '" + msg->header.frame_id + "' is not the robot frame '" +
+  const std::string what =
+      "loop closure message " + std::to_string(msg->header.seq);
+  if (!msg->header.frame_id.empty() &&
+      msg->header.frame_id != options_.base_frame) {
+    return Invalid(what, "frame '" + msg->header.frame_id +
+                             "' is not the robot frame '" +
                              options_.base_frame + "'");
   }
   if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
@@ -369,7 +403,8 @@ void VerifierNode<Pose>::ResolveStampedLoops() {
               "no keyframe within " + std::to_string(options_.stamp_tolerance) +
                   " s of its " + (from < 0 ? "from" : "to") + " stamp");
     } else {
-      AddLoopCandidate(msg, verifier_.graph().ids()[from], verifier_.graph().ids()[to]);
+      AddLoopCandidate(msg, verifier_.graph().ids()[from],
+                       verifier_.graph().ids()[to]);
     }
   }
   stamped_waiting_.erase(keep, stamped_waiting_.end());
@@ -378,12 +413,14 @@ void VerifierNode<Pose>::ResolveStampedLoops() {
 template <class Pose>
 void VerifierNode<Pose>::AddLoopCandidate(const rrr_slam::LoopClosure& msg,
                                           rrr::PoseId from, rrr::PoseId to) {
-  const std::string what = "loop closure message " + std::to_string(msg.header.seq);
+  const std::string what =
+      "loop closure message " + std::to_string(msg.header.seq);
   Pose z;
   Information information;
   std::string why;
   if (!FromRos(msg.relative_pose.pose, &z, &why) ||
-      !InformationFromCovariance<Pose>(msg.relative_pose.covariance, &information, &why)) {
+      !InformationFromCovariance<Pose>(msg.relative_pose.covariance,
+                                       &information, &why)) {
     return Invalid(what, why);
   }
   if (from < 0 || to < 0) return Invalid(what, "keyframe ids start at 0");
@@ -416,7 +453,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     new_keyframes_ = false;
   }
   const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
 
   std::lock_guard<std::mutex> lock(state_mutex_);
   if (!map_.empty()) {
@@ -445,7 +483,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
         break;
     }
   }
-  status_.waiting = verifier_.num_waiting() + static_cast<uint32_t>(stamped_waiting_.size());
+  status_.waiting =
+      verifier_.num_waiting() + static_cast<uint32_t>(stamped_waiting_.size());
   status_.clusters = verifier_.num_clusters();
   ++status_.updates;
   status_.last_update_seconds = seconds;
@@ -464,12 +503,14 @@ void VerifierNode<Pose>::RecomputeMap() {
 }
 
 template <class Pose>
-void VerifierNode<Pose>::PublishDecisions(const std::vector<rrr::DecisionChange>& changes) {
+void VerifierNode<Pose>::PublishDecisions(
+    const std::vector<rrr::DecisionChange>& changes) {
   rrr_slam::Decisions msg;
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = options_.map_frame;
   std::vector<int> previous(verifier_.num_candidates(), -1);
-  for (const auto& c : changes) previous[c.candidate] = static_cast<int>(c.previous);
+  for (const auto& c : changes)
+    previous[c.candidate] = static_cast<int>(c.previous);
   for (int c = 0; c < verifier_.num_candidates(); ++c) {
     rrr_slam::LoopDecision d;
     d.candidate = c;
@@ -477,9 +518,11 @@ void VerifierNode<Pose>::PublishDecisions(const std::vector<rrr::DecisionChange>
     d.state = ToMsg(verifier_.state(c));
     d.cluster = verifier_.cluster_of(c);
     d.waiting = verifier_.loop_of(c) < 0;
-    d.previous_state =
-        previous[c] < 0 ? d.state : ToMsg(static_cast<rrr::LoopState>(previous[c]));
-    d.reversed = previous[c] >= 0 && previous[c] != static_cast<int>(rrr::LoopState::kPending);
+    d.previous_state = previous[c] < 0
+                           ? d.state
+                           : ToMsg(static_cast<rrr::LoopState>(previous[c]));
+    d.reversed = previous[c] >= 0 &&
+                 previous[c] != static_cast<int>(rrr::LoopState::kPending);
     if (previous[c] >= 0) msg.changed.push_back(c);
     msg.accepted += d.state == rrr_slam::LoopDecision::ACCEPTED;
     msg.rejected += d.state == rrr_slam::LoopDecision::REJECTED;
@@ -492,7 +535,8 @@ void VerifierNode<Pose>::PublishDecisions(const std::vector<rrr::DecisionChange>
 template <class Pose>
 void VerifierNode<Pose>::PublishPath() {
   nav_msgs::Path path;
-  path.header.stamp = keyframe_stamps_.empty() ? ros::Time::now() : keyframe_stamps_.back();
+  path.header.stamp =
+      keyframe_stamps_.empty() ? ros::Time::now() : keyframe_stamps_.back();
   path.header.frame_id = options_.map_frame;
   for (size_t k = 0; k < map_.size(); ++k) {
     geometry_msgs::PoseStamped p;
@@ -507,8 +551,8 @@ void VerifierNode<Pose>::PublishPath() {
 template <class Pose>
 void VerifierNode<Pose>::PublishMarkers() {
   visualization_msgs::MarkerArray array;
-  const auto make = [this](const std::string& ns, int type, float r, float g, float b,
-                           double width) {
+  const auto make = [this](const std::string& ns, int type, float r, float g,
+                           float b, double width) {
     visualization_msgs::Marker m;
     m.header.frame_id = options_.map_frame;
     m.header.stamp = ros::Time::now();
@@ -525,11 +569,16 @@ void VerifierNode<Pose>::PublishMarkers() {
     m.color.a = 1.0;
     return m;
   };
-  auto odometry = make("odometry", visualization_msgs::Marker::LINE_STRIP, 0.2f, 0.4f, 1.0f, 0.05);
-  auto poses = make("poses", visualization_msgs::Marker::POINTS, 0.1f, 0.1f, 0.6f, 0.08);
-  auto accepted = make("accepted", visualization_msgs::Marker::LINE_LIST, 0.0f, 0.9f, 0.0f, 0.08);
-  auto rejected = make("rejected", visualization_msgs::Marker::LINE_LIST, 0.9f, 0.0f, 0.0f, 0.04);
-  auto pending = make("pending", visualization_msgs::Marker::LINE_LIST, 1.0f, 0.85f, 0.0f, 0.06);
+  auto odometry = make("odometry", visualization_msgs::Marker::LINE_STRIP, 0.2f,
+                       0.4f, 1.0f, 0.05);
+  auto poses =
+      make("poses", visualization_msgs::Marker::POINTS, 0.1f, 0.1f, 0.6f, 0.08);
+  auto accepted = make("accepted", visualization_msgs::Marker::LINE_LIST, 0.0f,
+                       0.9f, 0.0f, 0.08);
+  auto rejected = make("rejected", visualization_msgs::Marker::LINE_LIST, 0.9f,
+                       0.0f, 0.0f, 0.04);
+  auto pending = make("pending", visualization_msgs::Marker::LINE_LIST, 1.0f,
+                      0.85f, 0.0f, 0.06);
   for (const Pose& p : map_) {
     odometry.points.push_back(PointOf(ToRos(p)));
     poses.points.push_back(PointOf(ToRos(p)));
@@ -560,8 +609,10 @@ void VerifierNode<Pose>::PublishAcceptedGraph() {
   const auto& graph = verifier_.graph();
   msg.ids = graph.ids();
   for (const Pose& p : map_) msg.poses.push_back(ToRos(p));
-  for (const auto& e : graph.odometry()) msg.odometry.push_back(EdgeMsg(graph, e));
-  for (const int k : last_accepted_) msg.loops.push_back(EdgeMsg(graph, graph.loops()[k]));
+  for (const auto& e : graph.odometry())
+    msg.odometry.push_back(EdgeMsg(graph, e));
+  for (const int k : last_accepted_)
+    msg.loops.push_back(EdgeMsg(graph, graph.loops()[k]));
   graph_pub_.publish(msg);
 }
 

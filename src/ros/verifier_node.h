@@ -2,6 +2,10 @@
 #ifndef RRR_ROS_VERIFIER_NODE_H_
 #define RRR_ROS_VERIFIER_NODE_H_
 
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -11,10 +15,6 @@
 #include <thread>
 #include <variant>
 #include <vector>
-
-#include <nav_msgs/Odometry.h>
-#include <ros/ros.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include "node_options.h"
 #include "rrr/rrr/incremental_verifier.h"
@@ -54,7 +54,8 @@ class VerifierNode {
                    rrr_slam::SaveGraph::Response& res);
   bool OnGetStatus(rrr_slam::GetStatus::Request& req,
                    rrr_slam::GetStatus::Response& res);
-  bool OnFinish(rrr_slam::Finish::Request& req, rrr_slam::Finish::Response& res);
+  bool OnFinish(rrr_slam::Finish::Request& req,
+                rrr_slam::Finish::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
   void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
@@ -100,7 +101,7 @@ class VerifierNode {
   std::vector<ros::Time> keyframe_stamps_;
   std::vector<Pose> keyframe_odom_;  // odometry pose of each keyframe
   std::vector<Pose> map_;            // corrected pose of each keyframe
-  int map_size_ = 0;                 // keyframes covered by the last optimization
+  int map_size_ = 0;  // keyframes covered by the last optimization
   std::vector<int> last_accepted_;
   std::vector<rrr_slam::LoopClosure> stamped_waiting_;
   std::vector<ros::Time> candidate_stamps_;

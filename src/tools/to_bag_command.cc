@@ -1,9 +1,9 @@
 // rrr to-bag: a g2o file as a bag of rrr_node's input topics.
-#include <fstream>
-#include <iostream>
-
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
+
+#include <fstream>
+#include <iostream>
 
 #include "../ros/msg_conversion.h"
 #include "commands.h"
@@ -27,10 +27,11 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
   const int n = graph.num_poses();
   for (int k = 0; k < n; ++k) {
     if (graph.ids()[k] != k) {
-      throw InputError(args.input, 0,
-                       "pose ids must be 0, 1, 2, ... (the node's keyframe ids); "
-                       "pose " + std::to_string(k) + " has id " +
-                           std::to_string(graph.ids()[k]));
+      throw InputError(
+          args.input, 0,
+          "pose ids must be 0, 1, 2, ... (the node's keyframe ids); "
+          "pose " +
+              std::to_string(k) + " has id " + std::to_string(graph.ids()[k]));
     }
   }
   std::vector<double> times;
@@ -38,12 +39,13 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
     times = ReadTimestamps(args.timestamps);
     if (static_cast<int>(times.size()) < n) {
       throw InputError(args.timestamps, 0,
-                       "has " + std::to_string(times.size()) + " time stamps for " +
-                           std::to_string(n) + " poses");
+                       "has " + std::to_string(times.size()) +
+                           " time stamps for " + std::to_string(n) + " poses");
     }
     for (int k = 1; k < n; ++k) {
       if (!(times[k] >= times[k - 1])) {
-        throw InputError(args.timestamps, k + 1, "time stamps must not decrease");
+        throw InputError(args.timestamps, k + 1,
+                         "time stamps must not decrease");
       }
     }
   } else {
@@ -100,9 +102,9 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
     }
   }
   bag.close();
-  std::cout << "wrote " << n << " odometry messages and " << graph.loops().size()
-            << " loop candidates (" << times[n - 1] - times[0] << " s) to "
-            << args.output << "\n";
+  std::cout << "wrote " << n << " odometry messages and "
+            << graph.loops().size() << " loop candidates ("
+            << times[n - 1] - times[0] << " s) to " << args.output << "\n";
 }
 
 }  // namespace
@@ -118,7 +120,8 @@ void AddToBagCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--timestamps", args->timestamps, "time of pose k on line k")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--rate", args->rate, "odometry rate without --timestamps (Hz)")
+  cmd->add_option("--rate", args->rate,
+                  "odometry rate without --timestamps (Hz)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--odom-topic", args->odom_topic)->capture_default_str();

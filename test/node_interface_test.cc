@@ -1,0 +1,236 @@
+// rrr_node through its ROS interface: a generated world with known false
+// loops goes in as odometry and loop-closure messages (by id, by stamp, ahead
+// of its keyframe, and invalid ones); decisions, path, markers, tf and the
+// services come out.
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "../src/ros/msg_conversion.h"
+#include "ros_test_helpers.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/batch_verifier.h"
+#include "rrr/sim/grid_world.h"
+#include "rrr/solver/gauss_newton.h"
+#include "rrr_slam/Decisions.h"
+#include "rrr_slam/Finish.h"
+#include "rrr_slam/LoopClosure.h"
+#include "rrr_slam/SaveGraph.h"
+
+namespace {
+
+using Pairs = std::set<std::pair<int64_t, int64_t>>;
+
+ros::Time StampOf(int pose) { return ros::Time(100.0 + 0.2 * pose); }
+
+rrr_slam::LoopClosure LoopMsg(const rrr::PoseGraph<rrr::Pose2>& g,
+                              const rrr::Constraint<rrr::Pose2>& e) {
+  rrr_slam::LoopClosure m;
+  m.header.stamp = StampOf(std::max(e.from, e.to));
+  m.header.frame_id = "base_link";
+  m.reference = rrr_slam::LoopClosure::BY_ID;
+  m.from_id = g.ids()[e.from];
+  m.to_id = g.ids()[e.to];
+  m.relative_pose.pose = rrr_ros::ToRos(e.measurement);
+  m.relative_pose.covariance =
+      rrr_ros::CovarianceFromInformation<rrr::Pose2>(e.information);
+  m.confidence = -1;
+  return m;
+}
+
+TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
+  ros::NodeHandle nh;
+  rrr::GridWorldOptions world_options;
+  world_options.poses = 400;
+  world_options.false_loops = 12;
+  world_options.group = 3;
+  world_options.seed = 3;
+  const rrr::SimulatedWorld world = rrr::SimulateGridWorld(world_options);
+  const auto& g = world.graph;
+
+  // What batch RRR decides on the same graph (the node's default options).
+  rrr::RrrOptions options;
+  rrr::GaussNewton<rrr::Pose2> solver(g, options.iterations);
+  const rrr::Verdict verdict =
+      rrr::VerifyBatch(rrr::LoopEnds(g), solver, options);
+  Pairs expected;
+  for (const int k : verdict.accepted) {
+    expected.insert({g.ids()[g.loops()[k].from], g.ids()[g.loops()[k].to]});
+  }
+  Pairs false_pairs;
+  for (const int k : world.false_loops) {
+    false_pairs.insert({g.ids()[g.loops()[k].from], g.ids()[g.loops()[k].to]});
+  }
+
+  rrr_slam::Decisions::ConstPtr decisions;
+  nav_msgs::Path::ConstPtr path;
+  visualization_msgs::MarkerArray::ConstPtr markers;
+  auto decision_sub = nh.subscribe<rrr_slam::Decisions>(
+      "/rrr_node/decisions", 10, [&](const auto& m) { decisions = m; });
+  auto path_sub = nh.subscribe<nav_msgs::Path>(
+      "/rrr_node/path", 10, [&](const auto& m) { path = m; });
+  auto marker_sub = nh.subscribe<visualization_msgs::MarkerArray>(
+      "/rrr_node/graph", 10, [&](const auto& m) { markers = m; });
+  auto odom_pub = nh.advertise<nav_msgs::Odometry>("/odom", 10000);
+  auto loop_pub = nh.advertise<rrr_slam::LoopClosure>("/loop_closures", 10000);
+  ASSERT_TRUE(rrr_test::WaitFor(
+      [&] {
+        return odom_pub.getNumSubscribers() > 0 &&
+               loop_pub.getNumSubscribers() > 0;
+      },
+      30.0))
+      << "rrr_node did not subscribe";
+  ASSERT_TRUE(ros::service::waitForService("/rrr_node/finish", 30000));
+
+  std::vector<std::vector<int>> loops_at(g.num_poses());
+  for (size_t k = 0; k < g.loops().size(); ++k) {
+    const auto& e = g.loops()[k];
+    loops_at[std::max(e.from, e.to)].push_back(static_cast<int>(k));
+  }
+  // Loop 0 is sent 5 poses before its later keyframe exists (it must wait);
+  // loop 1 names its poses by time stamp.
+  const int early = std::max(g.loops()[0].from, g.loops()[0].to) - 5;
+  ASSERT_GT(early, 0);
+  int loops_sent = 0, invalid_sent = 0;
+  const std::vector<rrr::Pose2> chain = g.ComposeOdometry();
+  for (int p = 0; p < g.num_poses(); ++p) {
+    nav_msgs::Odometry odom;
+    odom.header.stamp = StampOf(p);
+    odom.header.frame_id = "odom";
+    odom.child_frame_id = "base_link";
+    odom.pose.pose = rrr_ros::ToRos(chain[p]);
+    if (p > 0) {
+      odom.pose.covariance = rrr_ros::CovarianceFromInformation<rrr::Pose2>(
+          g.odometry()[p - 1].information);
+    }
+    odom_pub.publish(odom);
+    if (p == early) {
+      loop_pub.publish(LoopMsg(g, g.loops()[0]));
+      ++loops_sent;
+    }
+    for (const int k : loops_at[p]) {
+      if (k == 0) continue;
+      rrr_slam::LoopClosure m = LoopMsg(g, g.loops()[k]);
+      if (k == 1) {
+        m.reference = rrr_slam::LoopClosure::BY_STAMP;
+        m.from_stamp = StampOf(g.loops()[k].from) + ros::Duration(0.01);
+        m.to_stamp = StampOf(g.loops()[k].to) - ros::Duration(0.01);
+      }
+      loop_pub.publish(m);
+      ++loops_sent;
+    }
+    if (p == 200) {  // five invalid candidates
+      rrr_slam::LoopClosure bad = LoopMsg(g, g.loops()[2]);
+      bad.relative_pose.pose.position.x =
+          std::numeric_limits<double>::quiet_NaN();
+      loop_pub.publish(bad);
+      bad = LoopMsg(g, g.loops()[2]);
+      bad.relative_pose.covariance[0] = -1.0;
+      loop_pub.publish(bad);
+      bad = LoopMsg(g, g.loops()[2]);
+      bad.header.frame_id = "camera";
+      loop_pub.publish(bad);
+      bad = LoopMsg(g, g.loops()[2]);
+      bad.from_id = -4;
+      loop_pub.publish(bad);
+      bad = LoopMsg(g, g.loops()[2]);
+      bad.reference = 7;
+      loop_pub.publish(bad);
+      invalid_sent += 5;
+      loops_sent += 5;
+    }
+    if (p % 50 == 0) ros::WallDuration(0.01).sleep();
+  }
+  ASSERT_TRUE(rrr_test::WaitFor(
+      [&] {
+        const auto s = rrr_test::Status();
+        return s.odometry_received == static_cast<uint64_t>(g.num_poses()) &&
+               s.loop_closures_received == static_cast<uint64_t>(loops_sent) &&
+               s.queue_length == 0;
+      },
+      60.0))
+      << "not every input reached the node";
+
+  rrr_slam::Finish finish;
+  ASSERT_TRUE(ros::service::call("/rrr_node/finish", finish));
+  EXPECT_EQ(finish.response.pending, 0u);
+  EXPECT_EQ(finish.response.waiting, 0u);
+  // The messages published by finish: nothing pending, every keyframe.
+  const auto pending_points = [&] {
+    for (const auto& m : markers->markers) {
+      if (m.ns == "pending") return m.points.size();
+    }
+    return size_t{0};
+  };
+  ASSERT_TRUE(rrr_test::WaitFor(
+      [&] {
+        return decisions && decisions->pending == 0 &&
+               decisions->decisions.size() == g.loops().size() && path &&
+               path->poses.size() == static_cast<size_t>(g.num_poses()) &&
+               markers && pending_points() == 0;
+      },
+      30.0));
+
+  // Decisions: the batch answer, every false loop rejected.
+  Pairs accepted;
+  for (const auto& d : decisions->decisions) {
+    EXPECT_FALSE(d.waiting);
+    EXPECT_NE(d.state, rrr_slam::LoopDecision::PENDING);
+    if (d.state == rrr_slam::LoopDecision::ACCEPTED)
+      accepted.insert({d.from_id, d.to_id});
+  }
+  EXPECT_EQ(decisions->decisions.size(), g.loops().size());
+  EXPECT_EQ(accepted, expected);
+  for (const auto& f : false_pairs) EXPECT_EQ(accepted.count(f), 0u);
+  EXPECT_GT(accepted.size(), 0u);
+
+  // The corrected path has every keyframe, in the map frame.
+  EXPECT_EQ(path->header.frame_id, "map");
+  EXPECT_EQ(path->poses.size(), static_cast<size_t>(g.num_poses()));
+
+  // Markers: accepted loops green, rejected red, two points each.
+  std::map<std::string, size_t> points;
+  for (const auto& m : markers->markers) points[m.ns] = m.points.size();
+  EXPECT_EQ(points["accepted"], 2 * accepted.size());
+  EXPECT_EQ(points["rejected"], 2 * (g.loops().size() - accepted.size()));
+  EXPECT_EQ(points["pending"], 0u);
+
+  // map -> odom on tf.
+  tf2_ros::Buffer buffer;
+  tf2_ros::TransformListener listener(buffer);
+  EXPECT_TRUE(
+      buffer.canTransform("map", "odom", ros::Time(0), ros::Duration(10.0)));
+
+  // Status: the invalid messages counted, nothing lost.
+  const auto status = rrr_test::Status();
+  EXPECT_EQ(status.invalid_messages, static_cast<uint64_t>(invalid_sent));
+  EXPECT_EQ(status.inputs_dropped, 0u);
+  EXPECT_EQ(status.keyframes, static_cast<uint32_t>(g.num_poses()));
+  EXPECT_EQ(status.candidates, g.loops().size());
+
+  // Save: odometry plus the accepted loops, readable as g2o.
+  rrr_slam::SaveGraph save;
+  save.request.path = ::testing::TempDir() + "rrr_node_saved.g2o";
+  ASSERT_TRUE(ros::service::call("/rrr_node/save_graph", save));
+  EXPECT_TRUE(save.response.success) << save.response.message;
+  const auto saved =
+      std::get<rrr::PoseGraph2>(rrr::ReadG2o(save.request.path).graph);
+  EXPECT_EQ(saved.num_poses(), g.num_poses());
+  EXPECT_EQ(saved.loops().size(), accepted.size());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "node_interface_test");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,32 @@
+// Small helpers of the rostest tests: waiting and service calls.
+#ifndef RRR_TEST_ROS_TEST_HELPERS_H_
+#define RRR_TEST_ROS_TEST_HELPERS_H_
+
+#include <ros/ros.h>
+
+#include <functional>
+#include <string>
+
+#include "rrr_slam/GetStatus.h"
+
+namespace rrr_test {
+
+// Spins until `done()` or `seconds` of wall time pass; returns done().
+inline bool WaitFor(const std::function<bool()>& done, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (!done() && ros::WallTime::now() < end && ros::ok()) {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  return done();
+}
+
+inline rrr_slam::GetStatus::Response Status() {
+  rrr_slam::GetStatus srv;
+  ros::service::call("/rrr_node/get_status", srv);
+  return srv.response;
+}
+
+}  // namespace rrr_test
+
+#endif  // RRR_TEST_ROS_TEST_HELPERS_H_
