@@ -201,6 +201,12 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
   EXPECT_EQ(points["accepted"], 2 * accepted.size());
   EXPECT_EQ(points["rejected"], 2 * (g.loops().size() - accepted.size()));
   EXPECT_EQ(points["pending"], 0u);
+  for (const auto& m : markers->markers) {
+    // Empty lists clear old markers; the others are drawn.
+    EXPECT_EQ(m.action, m.points.empty() ? visualization_msgs::Marker::DELETE
+                                         : visualization_msgs::Marker::ADD)
+        << m.ns;
+  }
 
   // map -> odom on tf.
   tf2_ros::Buffer buffer;

@@ -121,7 +121,7 @@ template <class Pose>
 void VerifierNode<Pose>::Enqueue(Input input) {
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    queue_.push_back(std::move(input));
+    queue_.emplace_back(std::move(input), ros::WallTime::now());
     const auto length = static_cast<uint32_t>(queue_.size());
     if (length > max_queue_length_) max_queue_length_ = length;
   }
@@ -254,7 +254,7 @@ void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
 template <class Pose>
 void VerifierNode<Pose>::WorkerLoop() {
   while (true) {
-    std::deque<Input> batch;
+    std::deque<std::pair<Input, ros::WallTime>> batch;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
       queue_cv_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
@@ -262,7 +262,7 @@ void VerifierNode<Pose>::WorkerLoop() {
       batch.swap(queue_);
     }
     bool pending_update = false;
-    for (Input& input : batch) {
+    for (auto& [input, arrival] : batch) {
       if (auto* request = std::get_if<Request>(&input)) {
         if (pending_update) UpdateAndPublish(false);
         pending_update = false;
@@ -278,6 +278,9 @@ void VerifierNode<Pose>::WorkerLoop() {
           },
           input);
       pending_update = true;
+      if (std::holds_alternative<rrr_slam::LoopClosure::ConstPtr>(input)) {
+        unpublished_arrivals_.push_back(arrival);
+      }
       std::lock_guard<std::mutex> lock(state_mutex_);
       ++status_.inputs_processed;
     }
@@ -443,7 +446,10 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     RecomputeMap();
     PublishAcceptedGraph();
   }
-  if (!changes.empty() || finish) PublishDecisions(changes);
+  if (!changes.empty() || finish ||
+      verifier_.num_candidates() != published_candidates_) {
+    PublishDecisions(changes);
+  }
   const ros::WallTime now = ros::WallTime::now();
   if (accepted_changed || finish || !changes.empty() ||
       (new_keyframes_ && (now - last_publish_).toSec() >= kPublishPeriod)) {
@@ -489,6 +495,22 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   ++status_.updates;
   status_.last_update_seconds = seconds;
   status_.max_update_seconds = std::max(status_.max_update_seconds, seconds);
+  const ros::WallTime published = ros::WallTime::now();
+  for (const ros::WallTime& arrival : unpublished_arrivals_) {
+    candidate_latencies_.push_back((published - arrival).toSec());
+  }
+  unpublished_arrivals_.clear();
+  if (!candidate_latencies_.empty()) {
+    std::vector<double> sorted = candidate_latencies_;
+    const auto at = [&sorted](double q) {
+      const auto k = static_cast<size_t>(q * (sorted.size() - 1));
+      std::nth_element(sorted.begin(), sorted.begin() + k, sorted.end());
+      return sorted[k];
+    };
+    status_.candidate_latency_p50 = at(0.50);
+    status_.candidate_latency_p99 = at(0.99);
+    status_.candidate_latency_max = at(1.0);
+  }
 }
 
 template <class Pose>
@@ -530,6 +552,7 @@ void VerifierNode<Pose>::PublishDecisions(
     msg.decisions.push_back(d);
   }
   decision_pub_.publish(msg);
+  published_candidates_ = verifier_.num_candidates();
 }
 
 template <class Pose>
@@ -574,7 +597,7 @@ void VerifierNode<Pose>::PublishMarkers() {
   auto poses =
       make("poses", visualization_msgs::Marker::POINTS, 0.1f, 0.1f, 0.6f, 0.08);
   auto accepted = make("accepted", visualization_msgs::Marker::LINE_LIST, 0.0f,
-                       0.9f, 0.0f, 0.08);
+                       0.9f, 0.0f, 0.4);
   auto rejected = make("rejected", visualization_msgs::Marker::LINE_LIST, 0.9f,
                        0.0f, 0.0f, 0.04);
   auto pending = make("pending", visualization_msgs::Marker::LINE_LIST, 1.0f,
@@ -595,7 +618,8 @@ void VerifierNode<Pose>::PublishMarkers() {
     list.points.push_back(PointOf(ToRos(map_[e.to])));
   }
   for (auto* m : {&odometry, &poses, &accepted, &rejected, &pending}) {
-    // An empty list is still sent (with no points) to clear an old one.
+    // An empty list is sent as DELETE, which clears an old one.
+    if (m->points.empty()) m->action = visualization_msgs::Marker::DELETE;
     array.markers.push_back(*m);
   }
   marker_pub_.publish(array);

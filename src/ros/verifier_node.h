@@ -91,7 +91,7 @@ class VerifierNode {
   // The queue between the callbacks and the worker.
   std::mutex queue_mutex_;
   std::condition_variable queue_cv_;
-  std::deque<Input> queue_;
+  std::deque<std::pair<Input, ros::WallTime>> queue_;  // with arrival times
   bool stopping_ = false;
   std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
   std::atomic<uint32_t> max_queue_length_{0};
@@ -106,6 +106,9 @@ class VerifierNode {
   std::vector<rrr_slam::LoopClosure> stamped_waiting_;
   std::vector<ros::Time> candidate_stamps_;
   bool new_keyframes_ = false;
+  int published_candidates_ = 0;  // candidates in the last ~decisions
+  std::vector<ros::WallTime> unpublished_arrivals_;  // of candidates taken in
+  std::vector<double> candidate_latencies_;
   ros::WallTime last_publish_;  // of the path and the markers
   std::thread worker_;
 

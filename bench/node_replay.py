@@ -1,0 +1,109 @@
+#!/usr/bin/python3
+"""Replays a g2o dataset through rrr_node (rrr to-bag, then replay.launch with
+rosbag play at a speed factor) and reports the per-candidate latency, the
+largest queue, whether any input was lost, and whether the final accepted
+loops equal rrr verify's on the same file.
+
+    bench/node_replay.py [--level 0.150] [--rate 10] [--span-gate]
+    bench/node_replay.py --g2o FILE --window 10 [--rate 10]
+"""
+import argparse
+import os
+import pathlib
+import subprocess
+import sys
+import time
+
+import common
+
+
+def ros_env(port):
+    env = dict(os.environ)
+    env.update(ROS_MASTER_URI=f"http://localhost:{port}", ROS_HOSTNAME="localhost",
+               ROS_HOME=env.get("ROS_HOME", "/tmp/rrr_ros_home"),
+               PATH="/usr/bin:" + env.get("PATH", ""))
+    setup = common.ROOT / "_build" / "devel" / "setup.bash"
+    out = subprocess.run(["bash", "-c", f"source {setup} && env -0"], env=env,
+                         capture_output=True, text=True, check=True).stdout
+    return dict(line.split("=", 1) for line in out.split("\0") if "=" in line)
+
+
+def service(env, name, request="{}"):
+    out = subprocess.run(["rosservice", "call", name, request], env=env,
+                         capture_output=True, text=True, timeout=600).stdout
+    values = {}
+    for line in out.splitlines():
+        if ":" in line:
+            key, value = line.split(":", 1)
+            values[key.strip()] = value.strip().strip('"')
+    return values
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--level", default="0.150", help="Bicocca 25b level (default input)")
+    parser.add_argument("--g2o", help="another g2o file instead of Bicocca")
+    parser.add_argument("--window", type=int, default=50)
+    parser.add_argument("--rate", type=float, default=10.0)
+    parser.add_argument("--span-gate", action="store_true")
+    parser.add_argument("--port", type=int, default=11521)
+    parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "node_replay"))
+    args = parser.parse_args()
+    common.require_rrr()
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stamps = []
+    if args.g2o:
+        g2o = pathlib.Path(args.g2o)
+    else:
+        data = common.datasets_dir() / "bicocca25b"
+        g2o = data / f"B25b_{args.level}.g2o"
+        stamps = ["--timestamps", data / "B25b_timestamps.txt"]
+    bag = out / "input.bag"
+    common.run("to-bag", g2o, *stamps, "--output", bag)
+    extra = ["--span-gate"] if args.span_gate else []
+    report, _, _ = common.verify(g2o, args.window, out, 1, extra)
+    expected = {tuple(p) for p in report["accepted"]}
+
+    env = ros_env(args.port)
+    launch = subprocess.Popen(
+        ["roslaunch", "-p", str(args.port), "rrr_slam", "replay.launch", f"bag:={bag}",
+         f"rate:={args.rate}", f"cluster_window:={args.window}",
+         f"span_gate:={'true' if args.span_gate else 'false'}"],
+        env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        start = time.time()
+        while True:
+            time.sleep(2.0)
+            status = service(env, "/rrr_node/get_status")
+            if (status.get("odometry_received") == str(report["poses"]) and
+                    status.get("loop_closures_received") == str(report["candidates"]) and
+                    status.get("queue_length") == "0"):
+                break
+            if time.time() - start > 3600 or launch.poll() is not None:
+                sys.exit(f"the replay did not complete: {status}")
+        status = service(env, "/rrr_node/get_status")
+        service(env, "/rrr_node/finish")
+        saved = out / "node_map.g2o"
+        service(env, "/rrr_node/save_graph", f"{{path: '{saved}', with_candidates: false}}")
+        final = service(env, "/rrr_node/get_status")
+    finally:
+        launch.terminate()
+        launch.wait()
+    _, loops = common.loop_lines(saved)
+    accepted = {key for key, _ in loops}
+    print(f"input {g2o.name} at {args.rate}x: {report['poses']} odometry messages, "
+          f"{report['candidates']} candidates")
+    print(f"candidate latency (arrival -> its update published): "
+          f"p50 {1000 * float(status['candidate_latency_p50']):.1f} ms, "
+          f"p99 {1000 * float(status['candidate_latency_p99']):.1f} ms, "
+          f"max {1000 * float(status['candidate_latency_max']):.1f} ms")
+    print(f"update time: max {1000 * float(status['max_update_seconds']):.1f} ms; "
+          f"largest queue {status['max_queue_length']}; inputs dropped {final['inputs_dropped']}; "
+          f"invalid {final['invalid_messages']}")
+    print(f"accepted: node {len(accepted)}, rrr verify {len(expected)}, "
+          f"same loops: {accepted == expected}")
+
+
+if __name__ == "__main__":
+    main()
