@@ -10,6 +10,7 @@
 #include <iostream>
 #include <string>
 
+#include "../src/core/testing/dataset_dir.h"
 #include "rrr/io/g2o.h"
 #include "rrr/solver/gauss_newton.h"
 
@@ -17,10 +18,7 @@ namespace rrr {
 namespace {
 
 std::string DatasetPath(const std::string& name) {
-  const char* env = std::getenv("RRR_DATASETS");
-  const std::string dir =
-      env ? env : std::string(RRR_SOURCE_DIR) + "/../shared/datasets";
-  return dir + "/synthetic/" + name + ".g2o";
+  return testing::DatasetDir() + "/synthetic/" + name + ".g2o";
 }
 
 template <class Pose>

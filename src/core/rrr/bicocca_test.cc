@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 
+#include "../testing/dataset_dir.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/eval/loop_scores.h"
 #include "rrr/io/g2o.h"
@@ -16,16 +17,11 @@
 namespace rrr {
 namespace {
 
-std::string DatasetDir() {
-  const char* env = std::getenv("RRR_DATASETS");
-  return env ? env : std::string(RRR_SOURCE_DIR) + "/../shared/datasets";
-}
-
 // Checks precision 1 (topological rule) and recall at least the reference
 // implementation's at `level`.
 void ExpectFullPrecisionAndReferenceRecall(const std::string& level,
                                            bool span_gate) {
-  const std::string dir = DatasetDir() + "/bicocca25b/";
+  const std::string dir = testing::DatasetDir() + "/bicocca25b/";
   const std::string path = dir + "B25b_" + level + ".g2o";
   if (!std::ifstream(path)) {
     GTEST_SKIP() << "Bicocca 25b not found at " << path

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 
+#include "../testing/dataset_dir.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
@@ -120,16 +121,11 @@ TEST(IncrementalVerifier, RejectsCandidatesThatCanNeverExist) {
   EXPECT_EQ(v.num_candidates(), 0);
 }
 
-std::string DatasetDir() {
-  const char* env = std::getenv("RRR_DATASETS");
-  return env ? env : std::string(RRR_SOURCE_DIR) + "/../shared/datasets";
-}
-
 class IncrementalBicocca : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(IncrementalBicocca, EndsWithTheBatchDecisions) {
   const std::string path =
-      DatasetDir() + "/bicocca25b/B25b_" + GetParam() + ".g2o";
+      testing::DatasetDir() + "/bicocca25b/B25b_" + GetParam() + ".g2o";
   if (!std::ifstream(path)) {
     GTEST_SKIP() << "Bicocca 25b not found at " << path
                  << " (set RRR_DATASETS to the datasets folder)";
