@@ -15,6 +15,7 @@ PACKAGES=(
   python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-visualization-msgs python3-tf2-msgs
   libsuitesparse-dev libeigen3-dev libboost-math-dev libgtest-dev libcli11-dev
   nlohmann-json3-dev libbenchmark-dev python3-matplotlib python3-numpy
+  libopenblas0-serial
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

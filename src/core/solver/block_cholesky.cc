@@ -107,10 +107,12 @@ BlockCholesky<D>::BlockCholesky(
   common_->nmethods = 1;
   common_->method[0].ordering = CHOLMOD_NATURAL;
   common_->postorder = 0;
-  // Pose-graph factors have tiny supernodes; Debian's supernodal kernel also
-  // enters OpenMP regions per supernode. Simplicial is 5x faster here
-  // (BENCHMARKS.md, "Factorization").
-  common_->supernodal = CHOLMOD_SIMPLICIAL;
+  // Most pose-graph factors have tiny supernodes, and Debian's supernodal
+  // kernel enters OpenMP regions per supernode: simplicial unless the
+  // factorization is heavy (flops / nnz(L) >= 200, e.g. dense 3D graphs),
+  // where supernodal with BLAS wins (BENCHMARKS.md, "Factorization").
+  common_->supernodal = CHOLMOD_AUTO;
+  common_->supernodal_switch = 200;
   SetZero();
   for (int b = 0; b < num_blocks; ++b) AddDiagonal(b, Block::Identity());
   factor_ = cholmod_analyze(matrix_, common_.get());
