@@ -27,10 +27,21 @@ def require_rrr():
 
 def run(*args):
     """Runs rrr with `args`; returns stdout, exits on failure."""
-    result = subprocess.run([str(RRR), *map(str, args)], capture_output=True, text=True)
-    if result.returncode != 0:
-        sys.exit(f"rrr {' '.join(map(str, args))} failed:\n{result.stdout}{result.stderr}")
-    return result.stdout
+    return run_measured(*args)[0]
+
+
+def run_measured(*args):
+    """Runs rrr with `args`; returns (stdout, peak resident memory in MB of
+    that process), exits on failure."""
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        process = subprocess.Popen([str(RRR), *map(str, args)], stdout=out, stderr=err)
+        _, status, usage = os.wait4(process.pid, 0)
+        out.seek(0)
+        err.seek(0)
+        stdout, stderr = out.read().decode(), err.read().decode()
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"rrr {' '.join(map(str, args))} failed:\n{stdout}{stderr}")
+    return stdout, usage.ru_maxrss / 1024.0
 
 
 def read_json(path):
@@ -39,14 +50,19 @@ def read_json(path):
 
 
 def verify(graph, window, out_dir, repeat=1, extra=()):
-    """Runs rrr verify `repeat` times; returns (report, median seconds, map path)."""
+    """Runs rrr verify `repeat` times; returns (report, median seconds, map
+    path); the report gains "peak_rss_mb", the largest over the runs."""
     out_dir = pathlib.Path(out_dir)
     out_map, report = out_dir / "verified.g2o", out_dir / "report.json"
-    seconds = []
+    seconds, peaks = [], []
     for _ in range(repeat):
-        run("verify", graph, "--window", window, "--output", out_map, "--report", report, *extra)
+        _, peak = run_measured("verify", graph, "--window", window, "--output", out_map,
+                               "--report", report, *extra)
         seconds.append(read_json(report)["seconds"])
-    return read_json(report), statistics.median(seconds), out_map
+        peaks.append(peak)
+    result = read_json(report)
+    result["peak_rss_mb"] = max(peaks)
+    return result, statistics.median(seconds), out_map
 
 
 def evaluate(report_path, *args):

@@ -30,7 +30,7 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    header = ("dataset", "kind", "N", "seed", "cand", "clusters", "acc", "prec", "recall", "ATE", "sec")
+    header = ("dataset", "kind", "N", "seed", "cand", "clusters", "acc", "prec", "recall", "ATE", "sec", "peak MB")
     print(" ".join(f"{h:>10}" for h in header), flush=True)
     rows = []
     for name in args.datasets:
@@ -57,12 +57,13 @@ def main():
                     row = dict(dataset=name, kind=kind, outliers=n, seed=seed,
                                candidates=scores["candidates"], clusters=report["clusters"],
                                accepted=scores["accepted"], precision=scores["precision"],
-                               recall=scores["recall"], ate=scores["ate_rmse"], seconds=seconds)
+                               recall=scores["recall"], ate=scores["ate_rmse"], seconds=seconds,
+                               peak_rss_mb=report["peak_rss_mb"])
                     rows.append(row)
                     print(f"{name[:10]:>10} {kind:>10} {n:>10} {seed:>10} {row['candidates']:>10} "
                           f"{row['clusters']:>10} {row['accepted']:>10} {row['precision']:>10.4f} "
                           f"{row['recall']:>10.4f} {row['ate']:>10.3f} "
-                          f"{seconds:>10.2f}", flush=True)
+                          f"{seconds:>10.2f} {row['peak_rss_mb']:>10.1f}", flush=True)
     (out / "results.json").write_text(common.json.dumps(rows, indent=1))
 
 
