@@ -144,8 +144,11 @@ std::vector<DecisionChange> IncrementalVerifier<Pose>::Finish() {
 
 template <class Pose>
 std::vector<DecisionChange> IncrementalVerifier<Pose>::Judge(bool finish) {
-  clusters_ = ClusterInBatchOrder(LoopEnds(graph_), options_.cluster_window,
-                                  &cluster_of_loop_);
+  // Clusters change only when loops were added.
+  if (cluster_of_loop_.size() != graph_.loops().size()) {
+    clusters_ = ClusterInBatchOrder(LoopEnds(graph_), options_.cluster_window,
+                                    &cluster_of_loop_);
+  }
   const PoseId newest = graph_.num_poses() > 0 ? graph_.ids().back() : 0;
   std::vector<std::vector<int>> ready;
   for (const Cluster& c : clusters_) {
