@@ -57,6 +57,7 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   nh.param("iterations", o.rrr.iterations, o.rrr.iterations);
   nh.param("alpha", o.rrr.alpha, o.rrr.alpha);
   nh.param("span_gate", o.rrr.span_gate, o.rrr.span_gate);
+  nh.param("threads", o.rrr.threads, o.rrr.threads);
   const std::string problem = o.rrr.Validate();
   if (!problem.empty()) {
     Bad(nh, problem.substr(0, problem.find(' ')), problem);

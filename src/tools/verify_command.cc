@@ -1,8 +1,10 @@
 // rrr verify: batch RRR on a g2o file.
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "commands.h"
 #include "graph_file.h"
@@ -59,7 +61,8 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
   report["options"] = {{"cluster_window", args.options.cluster_window},
                        {"iterations", args.options.iterations},
                        {"alpha", args.options.alpha},
-                       {"span_gate", args.options.span_gate}};
+                       {"span_gate", args.options.span_gate},
+                       {"threads", args.options.threads}};
   std::ofstream out(args.report);
   out << report.dump(1) << "\n";
   if (!out) throw InputError(args.report, 0, "cannot write report");
@@ -92,6 +95,12 @@ void AddVerifyCommand(CLI::App& app) {
   cmd->add_flag("--span-gate", args->options.span_gate,
                 "gate each solve's total error over the edges its loops span, "
                 "not the whole graph (an option beyond the published method)");
+  args->options.threads =
+      std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  cmd->add_option("-j,--threads", args->options.threads,
+                  "consistency solves run at once; the decisions do not "
+                  "depend on it (default: the number of cores)")
+      ->capture_default_str();
   cmd->add_option("-o,--output", args->output, "optimized g2o output")
       ->required();
   cmd->add_option("-r,--report", args->report, "JSON report output")

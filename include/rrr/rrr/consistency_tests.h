@@ -14,30 +14,23 @@ namespace rrr {
 bool TotalErrorConsistent(const SubsetErrors& errors, int residual_dim,
                           const ChiSquareQuantile& chi2, bool span_gate);
 
-// The intra-cluster decision on the errors of solving odometry plus
-// `cluster`: if the total error passes its gate, the member loops with
-// d²_l < χ²(α, e), in their given order; otherwise none.
+// Intra-cluster consistency (RRR_ALGORITHM.md §2), decided on the errors of
+// solving odometry plus `cluster`: if the total error passes its gate, the
+// member loops with d²_l < χ²(α, e), in their given order; otherwise none.
 std::vector<int> IntraClusterSurvivors(const std::vector<int>& cluster,
                                        const SubsetErrors& errors,
                                        int residual_dim,
                                        const ChiSquareQuantile& chi2,
                                        bool span_gate);
 
-// Intra-cluster consistency (RRR_ALGORITHM.md §2). Solves odometry plus
-// `cluster`; if the total error passes its gate, returns the member loops
-// with d²_l < χ²(α, e), in their given order. Returns an empty list when the
-// cluster is rejected.
-std::vector<int> IntraClusterConsistent(const std::vector<int>& cluster,
-                                        ConsistencySolver& solver,
-                                        const ChiSquareQuantile& chi2,
-                                        bool span_gate = false);
-
 // Inter-cluster consistency (RRR_ALGORITHM.md §3) over clusters that passed
 // the intra-cluster test, each given by its loops. Returns, for each cluster,
-// whether it is in the accepted set `good` at the end.
+// whether it is in the accepted set `good` at the end. Up to `threads`
+// solves run at once (see RrrOptions::threads); the result does not depend
+// on it.
 std::vector<bool> InterClusterConsistent(
     const std::vector<std::vector<int>>& clusters, ConsistencySolver& solver,
-    const ChiSquareQuantile& chi2, bool span_gate = false);
+    const ChiSquareQuantile& chi2, bool span_gate = false, int threads = 1);
 
 }  // namespace rrr
 

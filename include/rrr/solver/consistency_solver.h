@@ -22,7 +22,8 @@ struct SubsetErrors {
   bool solved = true;
 };
 
-// The solve used by every RRR test.
+// The solve used by every RRR test. Solve() may be called from several
+// threads at once (RrrOptions::threads > 1).
 class ConsistencySolver {
  public:
   virtual ~ConsistencySolver() = default;

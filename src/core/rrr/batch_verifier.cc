@@ -4,6 +4,7 @@
 
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/consistency_tests.h"
+#include "rrr/solver/solve_in_parallel.h"
 
 namespace rrr {
 
@@ -19,15 +20,21 @@ Verdict VerifyBatch(const std::vector<std::pair<PoseId, PoseId>>& loop_ends,
                                          &verdict.cluster_of_loop);
 
   const int num_clusters = static_cast<int>(verdict.clusters.size());
+  std::vector<std::vector<int>> members;
+  for (const Cluster& c : verdict.clusters) members.push_back(c.loops);
+  int done = 0;
+  const std::vector<SubsetErrors> errors =
+      SolveInParallel(solver, members, options.threads, [&] {
+        if (progress) progress(++done, num_clusters);
+      });
   std::vector<std::vector<int>> survivors;
   for (int c = 0; c < num_clusters; ++c) {
-    std::vector<int> kept = IntraClusterConsistent(
-        verdict.clusters[c].loops, solver, chi2, options.span_gate);
+    std::vector<int> kept = IntraClusterSurvivors(
+        members[c], errors[c], solver.residual_dim(), chi2, options.span_gate);
     if (!kept.empty()) survivors.push_back(std::move(kept));
-    if (progress) progress(c + 1, num_clusters);
   }
-  const std::vector<bool> good =
-      InterClusterConsistent(survivors, solver, chi2, options.span_gate);
+  const std::vector<bool> good = InterClusterConsistent(
+      survivors, solver, chi2, options.span_gate, options.threads);
 
   std::vector<bool> accepted(loop_ends.size(), false);
   for (size_t c = 0; c < survivors.size(); ++c) {

@@ -84,6 +84,32 @@ TEST(VerifyBatch, DuplicateCandidatesAreBothJudged) {
   EXPECT_EQ(first, dup);
 }
 
+TEST(VerifyBatch, ThreadsDoNotChangeTheDecisions) {
+  GridWorldOptions options;
+  options.poses = 1500;
+  options.false_loops = 60;
+  options.seed = 7;
+  const SimulatedWorld w = SimulateGridWorld(options);
+  GaussNewton<Pose2> solver(w.graph, 4);
+  RrrOptions rrr;
+  const Verdict one = VerifyBatch(LoopEnds(w.graph), solver, rrr);
+  ASSERT_FALSE(one.accepted.empty());
+  ASSERT_FALSE(one.rejected.empty());
+  for (const int threads : {2, 3}) {
+    rrr.threads = threads;
+    int reports = 0, last_done = 0;
+    const Verdict many =
+        VerifyBatch(LoopEnds(w.graph), solver, rrr, [&](int done, int total) {
+          ++reports;
+          EXPECT_EQ(done, last_done + 1);
+          EXPECT_EQ(total, static_cast<int>(one.clusters.size()));
+          last_done = done;
+        });
+    EXPECT_EQ(many.accepted, one.accepted) << threads << " threads";
+    EXPECT_EQ(reports, static_cast<int>(one.clusters.size()));
+  }
+}
+
 TEST(VerifyBatch, RejectsBadOptions) {
   GridWorldOptions options;
   options.poses = 200;
@@ -91,6 +117,10 @@ TEST(VerifyBatch, RejectsBadOptions) {
   GaussNewton<Pose2> solver(w.graph, 4);
   RrrOptions rrr;
   rrr.alpha = 1.5;
+  EXPECT_THROW(VerifyBatch(LoopEnds(w.graph), solver, rrr),
+               std::invalid_argument);
+  rrr = RrrOptions();
+  rrr.threads = 0;
   EXPECT_THROW(VerifyBatch(LoopEnds(w.graph), solver, rrr),
                std::invalid_argument);
 }

@@ -1,6 +1,7 @@
 #include "rrr/rrr/incremental_verifier.h"
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 
 #include "rrr/geometry/pose2.h"
@@ -8,6 +9,7 @@
 #include "rrr/rrr/batch_verifier.h"
 #include "rrr/rrr/consistency_tests.h"
 #include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/solve_in_parallel.h"
 
 namespace rrr {
 namespace {
@@ -15,17 +17,17 @@ namespace {
 // Counts the solves of a solver it wraps.
 class CountingSolver : public ConsistencySolver {
  public:
-  CountingSolver(ConsistencySolver& solver, int* count)
-      : solver_(solver), count_(count) {}
+  explicit CountingSolver(ConsistencySolver& solver) : solver_(solver) {}
   SubsetErrors Solve(const std::vector<int>& active_loops) override {
-    ++*count_;
+    ++count_;
     return solver_.Solve(active_loops);
   }
   int residual_dim() const override { return solver_.residual_dim(); }
+  int count() const { return count_; }
 
  private:
   ConsistencySolver& solver_;
-  int* count_;
+  std::atomic<int> count_{0};
 };
 
 }  // namespace
@@ -160,24 +162,30 @@ std::vector<DecisionChange> IncrementalVerifier<Pose>::Judge(bool finish) {
   judged_ = ready;
 
   GaussNewton<Pose> gauss_newton(graph_, options_.iterations);
-  CountingSolver solver(gauss_newton, &num_solves_);
+  CountingSolver solver(gauss_newton);
   const int e = solver.residual_dim();
   const int odometry = static_cast<int>(graph_.odometry().size());
+  std::vector<std::vector<int>> unsolved;
+  for (const std::vector<int>& members : ready) {
+    if (intra_errors_.count(members) == 0) unsolved.push_back(members);
+  }
+  std::vector<SubsetErrors> solved =
+      SolveInParallel(solver, unsolved, options_.threads);
+  for (size_t k = 0; k < unsolved.size(); ++k) {
+    intra_errors_.emplace(std::move(unsolved[k]), std::move(solved[k]));
+  }
   std::vector<std::vector<int>> survivors;
   for (const std::vector<int>& members : ready) {
-    auto it = intra_errors_.find(members);
-    if (it == intra_errors_.end()) {
-      it = intra_errors_.emplace(members, solver.Solve(members)).first;
-    }
     // The solve's errors do not change as the chain grows; its edge count does.
-    SubsetErrors errors = it->second;
+    SubsetErrors errors = intra_errors_.at(members);
     errors.num_edges = odometry + static_cast<int>(members.size());
     std::vector<int> kept =
         IntraClusterSurvivors(members, errors, e, chi2_, options_.span_gate);
     if (!kept.empty()) survivors.push_back(std::move(kept));
   }
-  const std::vector<bool> good =
-      InterClusterConsistent(survivors, solver, chi2_, options_.span_gate);
+  const std::vector<bool> good = InterClusterConsistent(
+      survivors, solver, chi2_, options_.span_gate, options_.threads);
+  num_solves_ += solver.count();
 
   std::vector<LoopState> next(candidates_.size(), LoopState::kPending);
   for (const auto& members : ready) {

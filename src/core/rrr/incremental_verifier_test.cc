@@ -92,6 +92,12 @@ TEST(IncrementalVerifier, EndsWithTheBatchDecisionsOnASpoiledWorld) {
   EXPECT_EQ(replay.Accepted(), batch);
   // Decisions were made along the way, not only at the end.
   EXPECT_GT(replay.verifier.num_solves(), 0);
+
+  // Solving on two threads changes nothing.
+  RrrOptions threaded = options;
+  threaded.threads = 2;
+  const Replay threaded_replay(w.graph, threaded);
+  EXPECT_EQ(threaded_replay.Accepted(), batch);
 }
 
 TEST(IncrementalVerifier, CandidatesWaitForTheirPoses) {

@@ -13,6 +13,9 @@ std::string RrrOptions::Validate() const {
   if (!(alpha > 0.0 && alpha < 1.0)) {
     return "alpha must be in (0, 1), got " + std::to_string(alpha);
   }
+  if (threads < 1) {
+    return "threads must be at least 1, got " + std::to_string(threads);
+  }
   return "";
 }
 
