@@ -2,11 +2,24 @@
 
 #include <algorithm>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 
 namespace rrr {
 
 namespace {
+
+// Supernodal factors are factorized and solved with BLAS, which may not be
+// safe to call from several threads at once (Debian's serial OpenBLAS is
+// not: concurrent calls corrupt each other's results). Simplicial factors
+// use no BLAS and need no lock.
+std::mutex blas_mutex;
+
+// Holds `blas_mutex` if `factor` is supernodal.
+std::unique_lock<std::mutex> LockBlasFor(const cholmod_factor* factor) {
+  return factor->is_super ? std::unique_lock<std::mutex>(blas_mutex)
+                          : std::unique_lock<std::mutex>();
+}
 
 // A fill-reducing ordering of the block pattern (upper triangle given per
 // column); returns position[block].
@@ -168,6 +181,7 @@ void BlockCholesky<D>::AddOffDiagonal(int slot, int r, int c, const Block& m) {
 
 template <int D>
 bool BlockCholesky<D>::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) {
+  const std::unique_lock<std::mutex> lock = LockBlasFor(factor_);
   if (!cholmod_factorize(matrix_, factor_, common_.get()) ||
       common_->status == CHOLMOD_NOT_POSDEF) {
     return false;
