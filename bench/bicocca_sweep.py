@@ -5,7 +5,7 @@ and the metric rule, ATE, and time. Prints a table and draws the paper-style
 plots (precision, recall and ATE against the level; the trajectory at one
 level with its accepted and rejected loops) as PNG.
 
-    bench/bicocca_sweep.py [--repeat 5] [--span-gate] [--out DIR] [--levels 0.150 ...]
+    bench/bicocca_sweep.py [--repeat 5] [--span-gate] [--threads N] [--out DIR] [--levels 0.150 ...]
 """
 import argparse
 import pathlib
@@ -33,6 +33,7 @@ def main():
     parser.add_argument("--levels", nargs="*", help="levels to run (default: all 41)")
     parser.add_argument("--plot-level", default="0.150", help="level of the trajectory plot")
     parser.add_argument("--span-gate", action="store_true", help="pass --span-gate to rrr verify")
+    parser.add_argument("--threads", type=int, help="pass --threads to rrr verify (default: rrr's, every core)")
     args = parser.parse_args()
     common.require_rrr()
     data = common.datasets_dir() / "bicocca25b"
@@ -50,7 +51,7 @@ def main():
         graph = data / f"B25b_{level}.g2o"
         level_dir = out / level
         level_dir.mkdir(exist_ok=True)
-        extra = ["--span-gate"] if args.span_gate else []
+        extra = common.verify_flags(args)
         report, seconds, out_map = common.verify(graph, 50, level_dir, args.repeat, extra)
         labels_args = ["--labels", data / "labels_all_levels.txt", "--level", level]
         ours = common.evaluate(level_dir / "report.json", "--map", out_map, *labels_args, *truth)

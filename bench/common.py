@@ -65,6 +65,14 @@ def verify(graph, window, out_dir, repeat=1, extra=()):
     return result, statistics.median(seconds), out_map
 
 
+def verify_flags(args):
+    """rrr verify flags for a script's --span-gate and --threads."""
+    flags = ["--span-gate"] if args.span_gate else []
+    if args.threads:
+        flags += ["--threads", args.threads]
+    return flags
+
+
 def evaluate(report_path, *args):
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
         run("evaluate", report_path, "--json", f.name, *args)
