@@ -71,13 +71,14 @@ class JointSolves {
       : clusters_(clusters), good_(good), solver_(solver), threads_(threads) {}
 
   // Errors of solving the links of good ∪ h (good's first). `likely` lists
-  // clusters of h, the one likely to be set aside first first.
+  // clusters of h in the order they are likely to be set aside.
   const SubsetErrors& Get(const std::vector<int>& h,
                           const std::vector<int>& likely) {
     const auto known = solved_.find(h);
     if (known != solved_.end()) return known->second;
     std::vector<std::vector<int>> sets{h};
-    for (size_t k = 0; k < likely.size() && sets.size() < size_t(threads_);
+    for (size_t k = 0;
+         k < likely.size() && sets.size() < static_cast<size_t>(threads_);
          ++k) {
       std::vector<int> next = sets.back();
       next.erase(std::find(next.begin(), next.end(), likely[k]));

@@ -227,12 +227,14 @@ TEST(GaussNewton, ConcurrentSolvesOfSphere2500AgreeWithOneAtATime) {
   GaussNewton<Pose3> solver(graph, 4);
   std::vector<int> loops(graph.loops().size());
   std::iota(loops.begin(), loops.end(), 0);
-  std::vector<std::vector<int>> subsets;
-  for (int k = 0; k < 4; ++k) {
-    subsets.emplace_back(loops.begin(), loops.end() - 50 * k);
+  std::vector<std::vector<int>> subsets(4);
+  for (size_t k = 0; k < subsets.size(); ++k) {
+    subsets[k].assign(loops.begin(), loops.end() - 50 * k);
   }
-  std::vector<SubsetErrors> expected;
-  for (const auto& s : subsets) expected.push_back(solver.Solve(s));
+  std::vector<SubsetErrors> expected(subsets.size());
+  for (size_t k = 0; k < subsets.size(); ++k) {
+    expected[k] = solver.Solve(subsets[k]);
+  }
   const std::vector<SubsetErrors> concurrent =
       SolveInParallel(solver, subsets, 2);
   for (size_t k = 0; k < subsets.size(); ++k) {

@@ -26,8 +26,8 @@ class EchoSolver : public ConsistencySolver {
 };
 
 TEST(SolveInParallel, ReturnsTheErrorsInSubsetOrder) {
-  std::vector<std::vector<int>> subsets;
-  for (int k = 0; k < 50; ++k) subsets.push_back({k, k + 100});
+  std::vector<std::vector<int>> subsets(50);
+  for (int k = 0; k < 50; ++k) subsets[k] = {k, k + 100};
   EchoSolver solver;
   for (const int threads : {1, 2, 7}) {
     int reports = 0;
