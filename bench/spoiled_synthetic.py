@@ -5,7 +5,7 @@ ATE against the optimum of the dataset without false loops (0 is ideal).
 
     bench/spoiled_synthetic.py [--datasets manhattanOlson3500 city10000 ...]
         [--outliers 100 500 1000] [--seeds 1 2 ...] [--kinds random local grouped]
-        [--group 10] [--span-gate] [--threads N] [--out bench/out/synthetic]
+        [--group 10] [--span-gate] [--threads N] [--repeat 1] [--out bench/out/synthetic]
 """
 import argparse
 import pathlib
@@ -22,6 +22,7 @@ def main():
     parser.add_argument("--kinds", nargs="*", default=["random"], choices=["random", "local", "grouped"])
     parser.add_argument("--group", type=int, default=10, help="group size of the grouped kind")
     parser.add_argument("--window", type=int, default=10)
+    parser.add_argument("--repeat", type=int, default=1, help="runs of rrr verify; the median time is reported")
     parser.add_argument("--span-gate", action="store_true", help="pass --span-gate to rrr verify")
     parser.add_argument("--threads", type=int, help="pass --threads to rrr verify (default: rrr's, every core)")
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "synthetic"))
@@ -52,7 +53,7 @@ def main():
                     common.run("spoil", clean, "--outliers", n, "--seed", seed, *extra,
                                "--output", spoiled, "--truth", false_list)
                     report, seconds, out_map = common.verify(
-                        spoiled, args.window, run_dir, 1, common.verify_flags(args))
+                        spoiled, args.window, run_dir, args.repeat, common.verify_flags(args))
                     scores = common.evaluate(run_dir / "report.json", "--map", out_map,
                                              "--false-loops", false_list, "--gt-g2o", optimum)
                     row = dict(dataset=name, kind=kind, outliers=n, seed=seed,
