@@ -24,9 +24,9 @@ struct RrrOptions {
   bool span_gate = false;
   // How many consistency solves may run at once. Decisions do not depend on
   // it: the intra-cluster tests run side by side, and the inter-cluster
-  // procedure solves ahead the sets it would reach by setting aside clusters
-  // in their current order of inconsistency, keeping only the solves the
-  // one-at-a-time procedure would have made.
+  // procedure solves ahead (at most 4 joint solves at once) the sets it would
+  // reach by setting aside clusters in their current order of inconsistency,
+  // using only the solves the one-at-a-time procedure would have made.
   int threads = 1;
 
   // Returns an empty string if the options are usable, otherwise a message

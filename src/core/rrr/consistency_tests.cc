@@ -65,10 +65,17 @@ std::vector<int> ByDecreasingIndex(const std::vector<int>& which,
 // of solving one set at a time.
 class JointSolves {
  public:
+  // A guess k set-asides ahead holds about 0.5^k of the time (manhattan +
+  // 100, BENCHMARKS.md), and each solve running holds its own factor.
+  static constexpr size_t kMostJointSolvesAtOnce = 4;
+
   JointSolves(const std::vector<std::vector<int>>& clusters,
               const std::vector<int>& good, ConsistencySolver& solver,
               int threads)
-      : clusters_(clusters), good_(good), solver_(solver), threads_(threads) {}
+      : clusters_(clusters),
+        good_(good),
+        solver_(solver),
+        threads_(static_cast<size_t>(threads)) {}
 
   // Errors of solving the links of good ∪ h (good's first). `likely` lists
   // clusters of h in the order they are likely to be set aside.
@@ -77,9 +84,8 @@ class JointSolves {
     const auto known = solved_.find(h);
     if (known != solved_.end()) return known->second;
     std::vector<std::vector<int>> sets{h};
-    for (size_t k = 0;
-         k < likely.size() && sets.size() < static_cast<size_t>(threads_);
-         ++k) {
+    const size_t at_once = std::min(threads_, kMostJointSolvesAtOnce);
+    for (size_t k = 0; k < likely.size() && sets.size() < at_once; ++k) {
       std::vector<int> next = sets.back();
       next.erase(std::find(next.begin(), next.end(), likely[k]));
       if (next.empty()) break;
@@ -92,7 +98,7 @@ class JointSolves {
       links.push_back(LinksOf(clusters_, joint));
     }
     std::vector<SubsetErrors> errors =
-        SolveInParallel(solver_, links, threads_);
+        SolveInParallel(solver_, links, static_cast<int>(sets.size()));
     solved_.clear();
     for (size_t k = 0; k < sets.size(); ++k) {
       solved_.emplace(std::move(sets[k]), std::move(errors[k]));
@@ -104,7 +110,7 @@ class JointSolves {
   const std::vector<std::vector<int>>& clusters_;
   const std::vector<int>& good_;
   ConsistencySolver& solver_;
-  int threads_;
+  size_t threads_;
   std::map<std::vector<int>, SubsetErrors> solved_;
 };
 
