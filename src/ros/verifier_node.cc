@@ -52,6 +52,14 @@ geometry_msgs::Point PointOf(const geometry_msgs::Pose& p) {
   return p.position;
 }
 
+// Why a message in `frame` is not in the expected frame `name` (the `role`
+// frame), or "" if it is; an empty frame is taken as the expected one.
+std::string WrongFrame(const std::string& frame, const std::string& name,
+                       const std::string& role) {
+  if (frame.empty() || frame == name) return "";
+  return "frame '" + frame + "' is not the " + role + " frame '" + name + "'";
+}
+
 }  // namespace
 
 template <class Pose>
@@ -176,9 +184,22 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
 template <class Pose>
 bool VerifierNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
                                      rrr_slam::GetStatus::Response& res) {
+  std::vector<double> latencies;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     res = status_;
+    latencies = candidate_latencies_;
+  }
+  if (!latencies.empty()) {
+    const auto at = [&latencies](double q) {
+      const auto k = static_cast<size_t>(q * (latencies.size() - 1));
+      std::nth_element(latencies.begin(), latencies.begin() + k,
+                       latencies.end());
+      return latencies[k];
+    };
+    res.candidate_latency_p50 = at(0.50);
+    res.candidate_latency_p99 = at(0.99);
+    res.candidate_latency_max = at(1.0);
   }
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
@@ -305,14 +326,10 @@ template <class Pose>
 void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   const std::string what =
       "odometry message " + std::to_string(msg->header.seq);
-  if (!msg->header.frame_id.empty() &&
-      msg->header.frame_id != options_.odom_frame) {
-    return Invalid(what, "frame '" + msg->header.frame_id +
-                             "' is not the odometry frame '" +
-                             options_.odom_frame + "'");
-  }
+  std::string why =
+      WrongFrame(msg->header.frame_id, options_.odom_frame, "odometry");
+  if (!why.empty()) return Invalid(what, why);
   Pose pose;
-  std::string why;
   if (!FromRos(msg->pose.pose, &pose, &why)) return Invalid(what, why);
   if (!keyframe_stamps_.empty() &&
       msg->header.stamp < keyframe_stamps_.back()) {
@@ -377,12 +394,9 @@ template <class Pose>
 void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
   const std::string what =
       "loop closure message " + std::to_string(msg->header.seq);
-  if (!msg->header.frame_id.empty() &&
-      msg->header.frame_id != options_.base_frame) {
-    return Invalid(what, "frame '" + msg->header.frame_id +
-                             "' is not the robot frame '" +
-                             options_.base_frame + "'");
-  }
+  const std::string why =
+      WrongFrame(msg->header.frame_id, options_.base_frame, "robot");
+  if (!why.empty()) return Invalid(what, why);
   if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
     AddLoopCandidate(*msg, msg->from_id, msg->to_id);
   } else if (msg->reference == rrr_slam::LoopClosure::BY_STAMP) {
@@ -500,17 +514,6 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     candidate_latencies_.push_back((published - arrival).toSec());
   }
   unpublished_arrivals_.clear();
-  if (!candidate_latencies_.empty()) {
-    std::vector<double> sorted = candidate_latencies_;
-    const auto at = [&sorted](double q) {
-      const auto k = static_cast<size_t>(q * (sorted.size() - 1));
-      std::nth_element(sorted.begin(), sorted.begin() + k, sorted.end());
-      return sorted[k];
-    };
-    status_.candidate_latency_p50 = at(0.50);
-    status_.candidate_latency_p99 = at(0.99);
-    status_.candidate_latency_max = at(1.0);
-  }
 }
 
 template <class Pose>

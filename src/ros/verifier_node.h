@@ -101,19 +101,17 @@ class VerifierNode {
   std::vector<ros::Time> keyframe_stamps_;
   std::vector<Pose> keyframe_odom_;  // odometry pose of each keyframe
   std::vector<Pose> map_;            // corrected pose of each keyframe
-  int map_size_ = 0;  // keyframes covered by the last optimization
   std::vector<int> last_accepted_;
   std::vector<rrr_slam::LoopClosure> stamped_waiting_;
-  std::vector<ros::Time> candidate_stamps_;
   bool new_keyframes_ = false;
   int published_candidates_ = 0;  // candidates in the last ~decisions
   std::vector<ros::WallTime> unpublished_arrivals_;  // of candidates taken in
-  std::vector<double> candidate_latencies_;
   ros::WallTime last_publish_;  // of the path and the markers
   std::thread worker_;
 
   // Shared with the ROS threads under `state_mutex_`.
   std::mutex state_mutex_;
+  std::vector<double> candidate_latencies_;  // s, percentiles on request
   geometry_msgs::TransformStamped map_to_odom_;
   bool have_map_to_odom_ = false;
   rrr_slam::GetStatus::Response status_;
