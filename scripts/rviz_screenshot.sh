@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Replays Bicocca 25b (default level 0.150) through rrr_node with rviz under
 # Xvfb and saves a screenshot of the corrected trajectory and the coloured
-# loops. Needs the datasets (RRR_DATASETS or ../shared/datasets) and installs
-# rviz, Xvfb and ImageMagick if they are missing.
+# loops. Needs the datasets (RRR_DATASETS or ../shared/datasets); sets up the
+# package with its documentation tools (Xvfb, ImageMagick) first.
 #   scripts/rviz_screenshot.sh [LEVEL] [OUTPUT.png] [RATE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,12 +11,7 @@ OUT=${2:-doc/rviz_bicocca_${LEVEL}.png}
 RATE=${3:-20}
 DATA=${RRR_DATASETS:-$(pwd)/../shared/datasets}/bicocca25b
 [ -f "$DATA/B25b_$LEVEL.g2o" ] || { echo "Bicocca 25b not found in $DATA (set RRR_DATASETS)"; exit 1; }
-SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-for p in rviz xvfb xauth libgl1-mesa-dri imagemagick; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
-    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-      rviz xvfb xauth libgl1-mesa-dri imagemagick >/dev/null
-done
+bash scripts/setup.sh --doc
 export PATH=/usr/bin:$PATH ROS_HOSTNAME=localhost ROS_HOME=${ROS_HOME:-$(mktemp -d)}
 export ROS_MASTER_URI=http://localhost:11531
 set +u; source _build/devel/setup.bash; set -u

@@ -1,22 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian packages rrr_slam needs and builds it (with its tests)
-# into ./_build (not build/: rosrun ignores a package's build/ folder). Safe to run again: apt and the build are incremental.
+# into ./_build (not build/: rosrun ignores a package's build/ folder). Safe to
+# run again: apt and the build are incremental.
+#   scripts/setup.sh [--doc]   (--doc: also the tools of scripts/rviz_screenshot.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-PACKAGES=(
-  build-essential cmake catkin ros-message-generation ros-message-runtime libroscpp-dev
-  ros-std-msgs libstd-msgs-dev ros-geometry-msgs libgeometry-msgs-dev ros-nav-msgs libnav-msgs-dev
-  ros-visualization-msgs libvisualization-msgs-dev libtf2-ros-dev libtf2-geometry-msgs-dev
-  librosbag-dev librostest-dev python3-rostest python3-roslaunch python3-rosbag
-  python3-rostopic python3-rosnode python3-rosservice rosbash
-  python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-visualization-msgs python3-tf2-msgs
-  libsuitesparse-dev libeigen3-dev libboost-math-dev libgtest-dev libcli11-dev
-  nlohmann-json3-dev libbenchmark-dev python3-matplotlib python3-numpy
-  libopenblas0-serial
-)
+# The install list is derived from package.xml (scripts/debian_packages.sh).
+PACKAGE_LIST=$(bash scripts/debian_packages.sh "$@")
+mapfile -t PACKAGES <<<"$PACKAGE_LIST"
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -13,9 +13,10 @@ status=$?
 echo "$summary" | tail -40
 echo "(full test output: _build/run_tests.log)"
 # The plain closing line, counted from the JUnit files (catkin's summary counts
-# each gtest case twice).
-total=$(cat _build/test_results/*/*.xml | grep -c '<testcase ' || true)
-failed=$(cat _build/test_results/*/*.xml | grep -cE '<(failure|error)[ >]' || true)
-skipped=$(cat _build/test_results/*/*.xml | grep -cE '<skipped' || true)
+# each gtest case twice; pytest writes a file on one line).
+count() { cat _build/test_results/*/*.xml | grep -oE "$1" | wc -l; }
+total=$(count '<testcase ')
+failed=$(count '<(failure|error)[ >]')
+skipped=$(count '<skipped')
 echo "tests: $((total - failed - skipped)) passed, $failed failed, $skipped skipped"
 exit $status
