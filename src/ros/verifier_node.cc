@@ -518,10 +518,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
 
 template <class Pose>
 void VerifierNode<Pose>::RecomputeMap() {
-  const auto& graph = verifier_.graph();
-  if (graph.num_poses() == 0) return;
-  rrr::GaussNewton<Pose> solver(graph, 1);
-  map_ = solver.Optimize(last_accepted_, rrr::ConvergenceOptions());
+  if (verifier_.graph().num_poses() == 0) return;
+  map_ = verifier_.Map();
   // The map frame is the odometry frame of the first keyframe.
   const Pose shift = keyframe_odom_.front() * map_.front().inverse();
   for (Pose& p : map_) p = shift * p;

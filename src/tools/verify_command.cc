@@ -11,6 +11,7 @@
 #include "progress_bar.h"
 #include "rrr/io/input_error.h"
 #include "rrr/rrr/batch_verifier.h"
+#include "rrr/rrr/map_verifier.h"
 #include "rrr/solver/gauss_newton.h"
 
 namespace rrr {
@@ -18,6 +19,7 @@ namespace {
 
 struct VerifyArgs {
   std::string input, output, report;
+  std::string procedure = "published";
   RrrOptions options;
 };
 
@@ -37,13 +39,19 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   GaussNewton<Pose> solver(graph, args.options.iterations);
   Verdict verdict;
-  {
+  std::vector<Pose> map;
+  MapVerifierStats stats;
+  if (args.options.procedure == Procedure::kMap) {
+    std::vector<Pose> maintained;
+    verdict = VerifyWithMap(graph, args.options, &maintained, &stats);
+    map = solver.Optimize(verdict.accepted, {}, nullptr, &maintained);
+  } else {
     ProgressBar bar("rrr: clusters", true);
     verdict =
         VerifyBatch(LoopEnds(graph), solver, args.options,
                     [&bar](int done, int total) { bar.Update(done, total); });
+    map = solver.Optimize(verdict.accepted, {});
   }
-  const std::vector<Pose> map = solver.Optimize(verdict.accepted, {});
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -58,11 +66,23 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
   report["accepted"] = PairList(graph, verdict.accepted);
   report["rejected"] = PairList(graph, verdict.rejected);
   report["seconds"] = seconds;
-  report["options"] = {{"cluster_window", args.options.cluster_window},
+  report["options"] = {{"procedure", ToString(args.options.procedure)},
+                       {"cluster_window", args.options.cluster_window},
                        {"iterations", args.options.iterations},
                        {"alpha", args.options.alpha},
                        {"span_gate", args.options.span_gate},
-                       {"threads", args.options.threads}};
+                       {"threads", args.options.threads},
+                       {"noise_scale", args.options.noise_scale},
+                       {"map_radius", args.options.map_radius}};
+  if (args.options.procedure == Procedure::kMap) {
+    report["map_procedure"] = {{"intra_solves", stats.intra_solves},
+                               {"quick_accepts", stats.quick_accepts},
+                               {"trials", stats.trials},
+                               {"reversals", stats.reversals},
+                               {"reopened", stats.reopened},
+                               {"optimizations", stats.optimizations},
+                               {"not_converged", stats.not_converged}};
+  }
   std::ofstream out(args.report);
   out << report.dump(1) << "\n";
   if (!out) throw InputError(args.report, 0, "cannot write report");
@@ -87,6 +107,25 @@ void AddVerifyCommand(CLI::App& app) {
                   "clustering window t in poses (10 for keyframe graphs, 50 "
                   "for Bicocca 25b)")
       ->required();
+  cmd->add_option("--procedure", args->procedure,
+                  "decision procedure: published (RRR as in the paper) or "
+                  "map (each cluster judged against a maintained map; see "
+                  "README)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"published", "map"}));
+  cmd->add_option("-s,--noise-scale", args->options.noise_scale,
+                  "map procedure: every gate is s times the chi-square "
+                  "quantile")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--noise-margin", args->options.noise_margin,
+                  "map procedure, estimated scale: the gates use this many "
+                  "times the estimate")
+      ->capture_default_str();
+  cmd->add_option("--map-radius", args->options.map_radius,
+                  "map procedure: hops around a cluster's ends that a local "
+                  "solve minimizes over")
+      ->capture_default_str();
   cmd->add_option("-k,--iterations", args->options.iterations,
                   "Gauss-Newton iterations per consistency test")
       ->capture_default_str();
@@ -106,6 +145,7 @@ void AddVerifyCommand(CLI::App& app) {
   cmd->add_option("-r,--report", args->report, "JSON report output")
       ->required();
   cmd->callback([args] {
+    ParseProcedure(args->procedure, &args->options.procedure);
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
     const AnyPoseGraph graph = LoadGraph(args->input);

@@ -3,6 +3,7 @@
 #define RRR_GRAPH_POSE_GRAPH_H_
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -71,6 +72,22 @@ class PoseGraph {
   std::vector<Edge> loops_;
   std::vector<int> fixed_;
 };
+
+// The poses (indices) that the graph's loops `loops` touch, ascending, each
+// once.
+template <class Pose>
+std::vector<int> PosesTouched(const PoseGraph<Pose>& graph,
+                              const std::vector<int>& loops) {
+  std::vector<int> poses;
+  poses.reserve(2 * loops.size());
+  for (const int k : loops) {
+    poses.push_back(graph.loops()[k].from);
+    poses.push_back(graph.loops()[k].to);
+  }
+  std::sort(poses.begin(), poses.end());
+  poses.erase(std::unique(poses.begin(), poses.end()), poses.end());
+  return poses;
+}
 
 }  // namespace rrr
 

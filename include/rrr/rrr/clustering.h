@@ -13,17 +13,21 @@ namespace rrr {
 struct Cluster {
   PoseId start_low, start_high, end_low, end_high;
   std::vector<int> loops;  // loop indices, in the order they joined
+  bool closed = false;     // takes no more loops (Clustering::Close)
 };
 
 // Assigns loops to clusters as they are added (RRR_ALGORITHM.md §1): with
 // start = max(a, b), end = min(a, b), a loop joins the first cluster (in
 // creation order) with a start bound and an end bound each closer than
-// `window`, widening its ranges, or opens a new cluster.
+// `window`, widening its ranges, or opens a new cluster. Closed clusters
+// take no more loops.
 class Clustering {
  public:
   explicit Clustering(PoseId window) : window_(window) {}
   // Adds loop `loop` between poses with ids a and b; returns its cluster.
   int Add(int loop, PoseId a, PoseId b);
+  // Closes cluster `c`: later loops do not join it.
+  void Close(int c) { clusters_.at(c).closed = true; }
   const std::vector<Cluster>& clusters() const { return clusters_; }
 
  private:

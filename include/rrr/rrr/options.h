@@ -4,9 +4,25 @@
 
 #include <string>
 
+#include "rrr/solver/convergence.h"
+
 namespace rrr {
 
+// Which decision procedure judges the clusters.
+enum class Procedure {
+  // RRR as published (RRR_ALGORITHM.md §2–4, BatchVerifier and
+  // IncrementalVerifier): every decision re-runs the joint tests over all
+  // clusters, each solve from odometry.
+  kPublished,
+  // Each cluster judged once against a maintained map (MapVerifier).
+  kMap,
+};
+const char* ToString(Procedure procedure);
+// Parses "published" or "map"; returns false for anything else.
+bool ParseProcedure(const std::string& name, Procedure* procedure);
+
 struct RrrOptions {
+  Procedure procedure = Procedure::kPublished;
   // t: loops whose ends are closer than this many poses may share a cluster.
   // 10 suits keyframe graphs; 50 suits Bicocca 25b (5 Hz odometry, 1 Hz loops).
   int cluster_window = 10;
@@ -28,6 +44,26 @@ struct RrrOptions {
   // reach by setting aside clusters in their current order of inconsistency,
   // using only the solves the one-at-a-time procedure would have made.
   int threads = 1;
+
+  // The map procedure only (MapVerifier).
+  // s: every gate compares an error with s·χ²(α, dof). 1 trusts the
+  // information matrices as given; 0 estimates s from the data
+  // (NoiseScaleEstimate).
+  double noise_scale = 0.0;
+  // With an estimated scale, the gates use this many times the estimate:
+  // the estimate is of the typical error, the gates must pass the loops'
+  // heavier tails (the measured trade-off is in BENCHMARKS.md).
+  double noise_margin = 5.0;
+  // Hops (along the chain between junctions, or across an accepted loop)
+  // around a cluster's ends that a local solve minimizes over.
+  int map_radius = 6;
+  // The whole map is minimized after this many accepted clusters, or after
+  // the accepted clusters grew by optimize_growth if that is more: often
+  // while the map is small, a bounded share of the work when it is large.
+  int optimize_every = 10;
+  double optimize_growth = 0.1;
+  // How the map procedure's minimizations stop.
+  ConvergenceOptions convergence{20, 1e-3};
 
   // Returns an empty string if the options are usable, otherwise a message
   // naming the first bad option.

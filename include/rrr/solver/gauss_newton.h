@@ -6,15 +6,9 @@
 
 #include "rrr/graph/pose_graph.h"
 #include "rrr/solver/consistency_solver.h"
+#include "rrr/solver/local_problem.h"
 
 namespace rrr {
-
-// When Optimize() stops.
-struct ConvergenceOptions {
-  int max_iterations = 100;
-  // Stop when the error decreases by less than this fraction in a step.
-  double relative_decrease = 1e-9;
-};
 
 // Gauss–Newton on the sparse normal equations (CHOLMOD), with the first pose
 // (and any pose the graph marks fixed) held fixed.
@@ -37,12 +31,14 @@ class GaussNewton : public ConsistencySolver {
   SubsetErrors Solve(const std::vector<int>& active_loops) override;
   int residual_dim() const override { return Pose::kDof; }
 
-  // Runs Gauss–Newton from the odometry initial estimate with odometry and
-  // `active_loops` until it converges; returns the estimates of every pose
-  // and sets `*iterations_run` if given.
+  // Runs Gauss–Newton with odometry and `active_loops` until it converges,
+  // from `start` (an estimate of every pose) if given, else from the
+  // odometry initial estimate; returns the estimates of every pose and sets
+  // `*iterations_run` if given.
   std::vector<Pose> Optimize(const std::vector<int>& active_loops,
                              const ConvergenceOptions& options,
-                             int* iterations_run = nullptr) const;
+                             int* iterations_run = nullptr,
+                             const std::vector<Pose>* start = nullptr) const;
 
   // The odometry chain every solve starts from.
   const std::vector<Pose>& initial() const { return initial_; }
@@ -51,14 +47,15 @@ class GaussNewton : public ConsistencySolver {
                         const std::vector<Pose>& x) const;
 
  private:
-  class Problem;
-  // Runs up to `max_iterations` steps from the odometry; stops early when
+  // Runs up to `max_iterations` steps from `start` (default: the odometry
+  // initial estimate); stops early when
   // `options` is given and the error stops decreasing. Sets `*spanned_edges`
   // (see SubsetErrors) if given. Returns false if the linear system could not
   // be solved.
   bool Run(const std::vector<int>& active_loops, int max_iterations,
            const ConvergenceOptions* options, std::vector<Pose>* x,
-           int* iterations_run, int* spanned_edges = nullptr) const;
+           int* iterations_run, int* spanned_edges = nullptr,
+           const std::vector<Pose>* start = nullptr) const;
 
   const PoseGraph<Pose>& graph_;
   int iterations_;

@@ -17,7 +17,7 @@ int Clustering::Add(int loop, PoseId a, PoseId b) {
   const PoseId start = std::max(a, b), end = std::min(a, b);
   for (size_t c = 0; c < clusters_.size(); ++c) {
     Cluster& cl = clusters_[c];
-    if (Near(start, cl.start_low, cl.start_high, window_) &&
+    if (!cl.closed && Near(start, cl.start_low, cl.start_high, window_) &&
         Near(end, cl.end_low, cl.end_high, window_)) {
       cl.start_low = std::min(cl.start_low, start);
       cl.start_high = std::max(cl.start_high, start);

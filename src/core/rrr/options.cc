@@ -16,7 +16,44 @@ std::string RrrOptions::Validate() const {
   if (threads < 1) {
     return "threads must be at least 1, got " + std::to_string(threads);
   }
+  if (!(noise_scale >= 0.0)) {
+    return "noise_scale must be positive, or 0 to estimate it, got " +
+           std::to_string(noise_scale);
+  }
+  if (!(noise_margin > 0.0)) {
+    return "noise_margin must be positive, got " + std::to_string(noise_margin);
+  }
+  if (map_radius < 1) {
+    return "map_radius must be at least 1, got " + std::to_string(map_radius);
+  }
+  if (optimize_every < 1) {
+    return "optimize_every must be at least 1, got " +
+           std::to_string(optimize_every);
+  }
+  if (!(optimize_growth >= 0.0)) {
+    return "optimize_growth must not be negative, got " +
+           std::to_string(optimize_growth);
+  }
+  if (convergence.max_iterations < 1) {
+    return "the iteration limit must be at least 1, got " +
+           std::to_string(convergence.max_iterations);
+  }
   return "";
+}
+
+const char* ToString(Procedure procedure) {
+  return procedure == Procedure::kMap ? "map" : "published";
+}
+
+bool ParseProcedure(const std::string& name, Procedure* procedure) {
+  if (name == "published") {
+    *procedure = Procedure::kPublished;
+  } else if (name == "map") {
+    *procedure = Procedure::kMap;
+  } else {
+    return false;
+  }
+  return true;
 }
 
 }  // namespace rrr

@@ -1,0 +1,168 @@
+// RRR judged against a maintained map: the cost of a decision does not grow
+// with the map.
+#ifndef RRR_RRR_MAP_VERIFIER_H_
+#define RRR_RRR_MAP_VERIFIER_H_
+
+#include <memory>
+#include <vector>
+
+#include "rrr/graph/odometry_chain.h"
+#include "rrr/rrr/batch_verifier.h"
+#include "rrr/rrr/chi_square.h"
+#include "rrr/rrr/clustering.h"
+#include "rrr/rrr/maintained_map.h"
+#include "rrr/rrr/noise_scale.h"
+#include "rrr/rrr/online_verifier.h"
+#include "rrr/rrr/options.h"
+
+namespace rrr {
+
+// Counters of what the procedure did, for reports and benchmarks.
+struct MapVerifierStats {
+  int intra_solves = 0;   // condensed intra-cluster solves
+  int quick_accepts = 0;  // accepted on the map's estimate, no solve
+  int trials = 0;         // local solves against the map
+  int reversals = 0;      // accepted clusters later set aside
+  int reopened = 0;       // set-aside clusters judged again
+  int optimizations = 0;  // whole-map minimizations
+  int not_converged = 0;  // deciding solves stopped by the limit
+};
+
+// The "map" procedure (README, "Procedures"; RRR_ALGORITHM.md terms).
+// Clusters are formed in arrival order. A cluster is ready when the robot has
+// moved `cluster_window` poses past its last loop, or when its later stretch
+// spans kClusterSpanWindows windows (it is then closed: later loops open a
+// new cluster). Ready clusters are judged one at a time, in the order of the
+// pose at which they became ready, against the map of odometry and the
+// clusters accepted so far:
+//  1. Intra-cluster: odometry plus the cluster C, minimized to convergence on
+//     the poses its loops touch (the odometry between them condensed). It
+//     passes when D² < s·χ²(α, e·|C|), e·|C| being the redundancy of
+//     odometry plus C; while it fails, the link with the largest d²_l is
+//     dropped. Then links with d²_l ≥ s·χ²(α, e) are dropped; a cluster left
+//     empty is rejected for good.
+//  2. Against the map: Δ, the increase of the map's minimal error when the
+//     surviving links S join it, must stay below s·χ²(α, e·|S|), the
+//     redundancy S adds. Δ is bounded from above by S's error at the map's
+//     estimate (no solve) and by a minimization over the junctions within
+//     `map_radius` hops of S's ends (MaintainedMap::Try); S is accepted when
+//     a bound passes.
+//  3. Otherwise S conflicts with the map. The accepted clusters that the
+//     local solve strains more than it leaves S unsatisfied (each error
+//     normalized by its gate, as RRR's consistency index) are set aside one
+//     by one, the most strained first (at most kMostReversalsPerConflict);
+//     if S then fits the map, they stay out (reversals) and S is accepted,
+//     else they are restored and S is set aside.
+//  4. Re-opening: after a reversal, and after each whole-map minimization
+//     (see RrrOptions::optimize_every), every set-aside cluster
+//     whose error at the map's estimate is under its gate is judged again,
+//     every accepted cluster whose error is over it is judged again, and
+//     every cluster rejected in step 1 under a scale at most half of today's
+//     goes through step 1 again.
+// s is RrrOptions::noise_scale or, when that is 0, `noise_margin` times the
+// estimate of NoiseScaleEstimate from the loops that arrived before the pose
+// at which the cluster is judged; with an estimate, no cluster is judged
+// before kMinLoopSamples loops have arrived (or Finish()). Decisions depend
+// only on the inputs and their order, not on when Update() is called, so
+// running it after every pose (VerifyWithMap) gives the node's decisions.
+template <class Pose>
+class MapVerifier : public OnlineVerifier<Pose> {
+ public:
+  static constexpr int kClusterSpanWindows = 5;
+  static constexpr size_t kMostReversalsPerConflict = 3;
+  static constexpr int kMinLoopSamples = 30;
+  // A trial whose Δ is over its gate but under kNearMissFactor times it is
+  // tried again over kWideRadiusFactor times the radius, and so is the
+  // map without the clusters a conflict sets aside.
+  static constexpr double kNearMissFactor = 10.0;
+  static constexpr int kWideRadiusFactor = 4;
+
+  // Throws std::invalid_argument if `options` do not validate.
+  explicit MapVerifier(const RrrOptions& options);
+  ~MapVerifier() override;
+
+  std::vector<DecisionChange> Update() override { return Judge(false); }
+  std::vector<DecisionChange> Finish() override { return Judge(true); }
+  // The maintained map's estimates.
+  std::vector<Pose> Map() override;
+  int num_clusters() const override {
+    return static_cast<int>(clustering_.clusters().size());
+  }
+  const MapVerifierStats& stats() const { return stats_; }
+  // The noise scale s of the gates for a decision at pose index `pose`
+  // (RrrOptions::noise_scale if set, else noise_margin times the estimate).
+  double NoiseScaleAt(int pose) const;
+  // The estimate from every loop so far ("none" before the first loop).
+  const NoiseScaleEstimate& noise_scale_estimate() const { return scale_; }
+
+ private:
+  enum class Status { kPending, kRejected, kAccepted, kSetAside };
+  struct ClusterRecord {
+    Status status = Status::kPending;
+    std::vector<int> survivors;  // links kept by the intra-cluster test
+    int ready_pose = -1;         // pose index at which it became ready
+    double judged_scale = 0.0;   // s of its last intra-cluster test
+  };
+
+  std::vector<DecisionChange> Judge(bool finish);
+  // Takes the graph's new poses and loops in.
+  void Catch();
+  // The pose index at which pending cluster `c` is judged, or -1 if not yet.
+  int DecisionPose(int c, bool finish) const;
+  void JudgeCluster(int c);
+  // Steps 2 and 3 for a cluster that passed step 1.
+  void JudgeAgainstMap(int c);
+  // Marks `c` accepted; adds its links to the map unless a kept trial did.
+  void Accept(int c, bool add_to_map);
+  void SetAside(int c);
+  // Step 4, once.
+  void Reopen();
+  // Step 4 until the map stops calling for it (at most kMostReopenRounds).
+  void ReopenWhileNeeded();
+  static constexpr int kMostReopenRounds = 3;
+  static constexpr double kRejudgeScaleRatio = 2.0;
+  void OptimizeMap();
+  double ClusterChi2AtEstimate(int c) const;
+  // s·χ²(α, dof) for the decision being made.
+  double Gate(int dof) const;
+  // A change of the map's error that matters to decisions: s·e, the
+  // expected error of one edge.
+  double Significant() const;
+  // Brings the candidates of the clusters touched since the last call up to
+  // date; returns the changes by candidate number.
+  std::vector<DecisionChange> PublishStates();
+
+  RrrOptions options_;
+  ChiSquareQuantile chi2_;
+  Clustering clustering_;
+  std::vector<ClusterRecord> records_;
+  std::vector<int> pending_;  // clusters not judged yet
+  std::vector<int> touched_;  // clusters whose status changed
+  OdometryChain<Pose> chain_;
+  std::unique_ptr<MaintainedMap<Pose>> map_;
+  NoiseScaleEstimate scale_;
+  // Per pose index p: the estimate from the loops that arrived before pose p
+  // existed, and their number.
+  std::vector<double> scale_before_pose_;
+  std::vector<int> samples_before_pose_;
+  int decision_pose_ = 0;  // of the decision being made
+  int accepted_since_optimize_ = 0;
+  int accepted_clusters_ = 0;  // acceptances so far (with re-acceptances)
+  bool reopen_needed_ = false;
+  MapVerifierStats stats_;
+};
+
+// Runs the map procedure over `graph` as the node would see it: its poses in
+// order, each loop candidate right after its later pose, an update after
+// every pose, then Finish(). Returns the decisions in graph.loops() indices;
+// sets `*map` to the final map's estimates and `*stats` if given. Throws
+// std::invalid_argument if `options` do not validate or a pose has no
+// odometry to its predecessor.
+template <class Pose>
+Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
+                      std::vector<Pose>* map = nullptr,
+                      MapVerifierStats* stats = nullptr);
+
+}  // namespace rrr
+
+#endif  // RRR_RRR_MAP_VERIFIER_H_

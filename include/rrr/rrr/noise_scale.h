@@ -1,0 +1,66 @@
+// How far a graph's information matrices are from its errors, from the data.
+#ifndef RRR_RRR_NOISE_SCALE_H_
+#define RRR_RRR_NOISE_SCALE_H_
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rrr {
+
+// The noise scale s: the factor by which the covariances of the edges must
+// be multiplied for their errors to be χ²-distributed as the gates assume
+// (s = 1: the information matrices are right; s < 1: they are too small).
+// Two robust estimates, each a ratio of observed minimal errors to their
+// degrees of freedom:
+//  - from the accepted clusters: the median over the clusters now accepted
+//    of Δ/dof, the increase each one brought to the map's minimal error over
+//    the redundancy it added, once kMinClusters are accepted. This is the
+//    scale of exactly what the gates test; a median, so a minority of wrong
+//    acceptances cannot move it.
+//  - before that, the information matrices as given (s = 1), unless single
+//    loops show them too small: each loop minimized alone with the odometry
+//    (e degrees of freedom) gives D²/e, and the kLoopQuantile-quantile over
+//    the loops so far, divided by the same quantile of χ²_e/e, replaces 1
+//    when it is smaller. A low quantile and never above 1, because early in
+//    a run most candidates can be false (nothing has been revisited yet) and
+//    odometry can be overconfident over long stretches: it errs towards a
+//    small scale, which sets clusters aside rather than accepting false
+//    ones, and the clusters' estimate takes over as soon as it can.
+class NoiseScaleEstimate {
+ public:
+  static constexpr int kMinClusters = 10;
+  static constexpr double kLoopQuantile = 0.05;
+
+  // `residual_dim` is e (3 in 2D, 6 in 3D).
+  explicit NoiseScaleEstimate(int residual_dim);
+
+  // The minimal error of one loop minimized alone with the odometry.
+  void AddLoopSample(double chi2);
+  // The estimate from the loop samples so far: min(1, quantile ratio).
+  double FromLoops() const { return from_loops_; }
+  int num_loop_samples() const { return static_cast<int>(loops_.size()); }
+
+  // Cluster `cluster` was accepted, raising the map's minimal error by
+  // `increase` with `dof` degrees of freedom; replaces an earlier sample.
+  void SetClusterSample(int cluster, double increase, int dof);
+  // Cluster `cluster` left the map.
+  void RemoveClusterSample(int cluster);
+
+  // The clusters' estimate when there is one, else `from_loops`.
+  double Value(double from_loops) const;
+  // "clusters" or "loops": where Value() comes from now.
+  std::string Source() const;
+
+ private:
+  int residual_dim_;
+  double chi2_quantile_ratio_;  // kLoopQuantile-quantile of χ²_e / e
+  std::vector<double> loops_;   // D²/e of each loop sample
+  double from_loops_ = 1.0;
+  std::map<int, double> clusters_;  // Δ/dof by cluster
+  double from_clusters_ = 0.0;      // 0 until kMinClusters samples
+};
+
+}  // namespace rrr
+
+#endif  // RRR_RRR_NOISE_SCALE_H_

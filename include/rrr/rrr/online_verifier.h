@@ -1,0 +1,112 @@
+// RRR over time: the poses, odometry and loop candidates a verifier is given
+// as the robot moves, and the state of every candidate.
+#ifndef RRR_RRR_ONLINE_VERIFIER_H_
+#define RRR_RRR_ONLINE_VERIFIER_H_
+
+#include <utility>
+#include <vector>
+
+#include "rrr/graph/pose_graph.h"
+
+namespace rrr {
+
+enum class LoopState { kPending, kAccepted, kRejected };
+const char* ToString(LoopState state);
+
+// A candidate whose state changed in an update.
+struct DecisionChange {
+  int candidate;  // candidate number, in arrival order
+  LoopState previous;
+  LoopState current;
+};
+
+// The interface of a verifier that judges loop candidates as they arrive
+// (RRR_ALGORITHM.md §4), and the record it keeps: the pose graph built from
+// the inputs, the candidates in arrival order, those waiting for a pose, and
+// each candidate's state. Subclasses decide (Update, Finish) and report the
+// map of odometry and accepted loops (Map).
+template <class Pose>
+class OnlineVerifier {
+ public:
+  using Information = typename Constraint<Pose>::Information;
+
+  virtual ~OnlineVerifier() = default;
+
+  // Starts the chain at pose `id`. Throws std::logic_error if it has started.
+  void AddFirstPose(PoseId id, const Pose& pose);
+  // Appends the pose with the next id (last id + 1), reached from the last
+  // pose by odometry `z`. Throws std::logic_error before AddFirstPose.
+  // Returns the new pose's id.
+  PoseId AddOdometry(const Pose& z, const Information& information);
+  // Adds the candidate z ≈ x_a⁻¹ · x_b and returns its number (0, 1, ... in
+  // arrival order). If a pose does not exist yet, the candidate waits for it
+  // and enters the graph when it arrives. Throws std::invalid_argument if
+  // |a - b| < 2 or a pose precedes the first pose (it can never exist).
+  int AddLoop(PoseId a, PoseId b, const Pose& z,
+              const Information& information);
+
+  // Judges what became ready; returns the changed decisions.
+  virtual std::vector<DecisionChange> Update() = 0;
+  // Judges everything now, as at the end of a run; returns the changes.
+  virtual std::vector<DecisionChange> Finish() = 0;
+  // The estimate of every pose of graph() with odometry and the accepted
+  // loops, optimized.
+  virtual std::vector<Pose> Map() = 0;
+  virtual int num_clusters() const = 0;
+  // The candidate's cluster, or -1 while it waits for a pose or is not
+  // clustered yet.
+  int cluster_of(int candidate) const;
+
+  const PoseGraph<Pose>& graph() const { return graph_; }
+  int num_candidates() const { return static_cast<int>(candidates_.size()); }
+  // Candidates waiting for a pose that does not exist yet.
+  int num_waiting() const { return static_cast<int>(waiting_.size()); }
+  LoopState state(int candidate) const {
+    return candidates_.at(candidate).state;
+  }
+  // The candidate's loop index in graph().loops(), or -1 while it waits.
+  int loop_of(int candidate) const { return candidates_.at(candidate).loop; }
+  // The candidate's end ids as given to AddLoop.
+  std::pair<PoseId, PoseId> ends_of(int candidate) const;
+  // Loop indices of the accepted candidates, ascending.
+  std::vector<int> AcceptedLoops() const;
+  // Number of consistency solves run so far.
+  int num_solves() const { return num_solves_; }
+
+ protected:
+  // The candidate of graph loop `loop`.
+  int candidate_of_loop(int loop) const { return candidate_of_loop_[loop]; }
+  // The number of poses the graph had when loop `loop` entered it.
+  int poses_at_arrival(int loop) const { return poses_at_arrival_[loop]; }
+  // Sets every candidate's state to `next` (by candidate number) and returns
+  // the changes.
+  std::vector<DecisionChange> SetStates(const std::vector<LoopState>& next);
+  // Sets one candidate's state, recording a change in `changes`.
+  void SetState(int candidate, LoopState state,
+                std::vector<DecisionChange>* changes);
+  void CountSolves(int solves) { num_solves_ += solves; }
+  // The cluster of each graph loop clustered so far; subclasses keep it.
+  std::vector<int> cluster_of_loop_;
+
+ private:
+  struct Candidate {
+    PoseId a, b;
+    Pose measurement;
+    Information information;
+    int loop = -1;
+    LoopState state = LoopState::kPending;
+  };
+  // Moves the candidates whose poses exist into the graph.
+  void ApplyWaiting();
+
+  PoseGraph<Pose> graph_;
+  std::vector<Candidate> candidates_;
+  std::vector<int> waiting_;            // candidate numbers
+  std::vector<int> candidate_of_loop_;  // graph loop index -> candidate
+  std::vector<int> poses_at_arrival_;   // graph loop index -> poses
+  int num_solves_ = 0;
+};
+
+}  // namespace rrr
+
+#endif  // RRR_RRR_ONLINE_VERIFIER_H_

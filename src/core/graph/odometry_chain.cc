@@ -1,0 +1,111 @@
+#include "rrr/graph/odometry_chain.h"
+
+#include <Eigen/Cholesky>
+#include <stdexcept>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+
+namespace rrr {
+namespace {
+
+template <class M>
+M Inverse(const M& spd) {
+  return spd.ldlt().solve(M::Identity());
+}
+
+}  // namespace
+
+template <class Pose>
+OdometryChain<Pose>::OdometryChain()
+    : composed_{Pose()}, world_sum_{Covariance::Zero()} {}
+
+template <class Pose>
+void OdometryChain<Pose>::Append(const Pose& z,
+                                 const Information& information) {
+  const Covariance cov = Inverse(information);
+  const Pose next = composed_.back() * z;
+  const typename Pose::Jacobian ad = next.Adjoint();
+  world_sum_.push_back(world_sum_.back() + ad * cov * ad.transpose());
+  composed_.push_back(next);
+  steps_.push_back(z);
+  step_cov_.push_back(cov);
+}
+
+template <class Pose>
+typename OdometryChain<Pose>::Covariance OdometryChain<Pose>::CovarianceBetween(
+    int i, int j) const {
+  if (j - i <= kDirectSteps) {
+    // Σ_{i,k+1} = Ad(z_k⁻¹) Σ_{i,k} Ad(z_k⁻¹)ᵀ + Σ_k.
+    Covariance cov = Covariance::Zero();
+    for (int k = i; k < j; ++k) {
+      const typename Pose::Jacobian ad = steps_[k].inverse().Adjoint();
+      cov = ad * cov * ad.transpose() + step_cov_[k];
+    }
+    return cov;
+  }
+  const typename Pose::Jacobian ad = composed_[j].inverse().Adjoint();
+  const Covariance cov = ad * (world_sum_[j] - world_sum_[i]) * ad.transpose();
+  return 0.5 * (cov + cov.transpose());
+}
+
+template <class Pose>
+Constraint<Pose> OdometryChain<Pose>::Between(int i, int j) const {
+  Constraint<Pose> edge;
+  edge.from = i;
+  edge.to = j;
+  edge.measurement = composed_[i].between(composed_[j]);
+  edge.information = Inverse(CovarianceBetween(i, j));
+  edge.information = 0.5 * (edge.information + edge.information.transpose());
+  return edge;
+}
+
+template <class Pose>
+OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph) {
+  using Information = typename Constraint<Pose>::Information;
+  const int n = graph.num_poses();
+  std::vector<Pose> z(n);
+  std::vector<Information> info(n, Information::Zero());
+  std::vector<bool> linked(n, false);
+  for (const auto& e : graph.odometry()) {
+    const bool forward = e.to == e.from + 1;
+    const int k = forward ? e.to : e.from;  // the later pose
+    // The step from k-1 to k, seen forwards: z' = z⁻¹ and
+    // Ω' = Ad(z)⁻ᵀ Ω Ad(z)⁻¹ for an edge stored backwards.
+    Pose step = e.measurement;
+    Information omega = e.information;
+    if (!forward) {
+      const typename Pose::Jacobian ad_inv = e.measurement.Adjoint().inverse();
+      step = e.measurement.inverse();
+      omega = ad_inv.transpose() * e.information * ad_inv;
+    }
+    if (!linked[k]) {
+      z[k] = step;
+      info[k] = omega;
+      linked[k] = true;
+      continue;
+    }
+    // Fuse: the information-weighted mean in the tangent space at z[k].
+    const Information sum = info[k] + omega;
+    const typename Pose::Tangent shift =
+        sum.ldlt().solve(omega * z[k].between(step).Log());
+    z[k] = z[k] * Pose::Exp(shift);
+    info[k] = sum;
+  }
+  OdometryChain<Pose> chain;
+  for (int k = 1; k < n; ++k) {
+    if (!linked[k]) {
+      throw std::invalid_argument("pose " + std::to_string(graph.ids()[k]) +
+                                  " has no odometry to its predecessor");
+    }
+    chain.Append(z[k], info[k]);
+  }
+  return chain;
+}
+
+template class OdometryChain<Pose2>;
+template class OdometryChain<Pose3>;
+template OdometryChain<Pose2> ChainOf(const PoseGraph<Pose2>&);
+template OdometryChain<Pose3> ChainOf(const PoseGraph<Pose3>&);
+
+}  // namespace rrr

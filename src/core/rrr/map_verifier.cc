@@ -1,0 +1,442 @@
+#include "rrr/rrr/map_verifier.h"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <tuple>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/solver/condensed_solve.h"
+
+namespace rrr {
+
+template <class Pose>
+MapVerifier<Pose>::MapVerifier(const RrrOptions& options)
+    : options_(options),
+      chi2_(options.alpha),
+      clustering_(options.cluster_window),
+      scale_(Pose::kDof) {
+  const std::string problem = options.Validate();
+  if (!problem.empty()) throw std::invalid_argument(problem);
+}
+
+template <class Pose>
+MapVerifier<Pose>::~MapVerifier() = default;
+
+template <class Pose>
+double MapVerifier<Pose>::NoiseScaleAt(int pose) const {
+  if (options_.noise_scale > 0.0) return options_.noise_scale;
+  double from_loops = 1.0;
+  if (!scale_before_pose_.empty()) {
+    from_loops = scale_before_pose_[std::min(
+        static_cast<size_t>(std::max(pose, 0)), scale_before_pose_.size() - 1)];
+  }
+  return options_.noise_margin * scale_.Value(from_loops);
+}
+
+template <class Pose>
+double MapVerifier<Pose>::Significant() const {
+  return NoiseScaleAt(decision_pose_) * Pose::kDof;
+}
+
+template <class Pose>
+double MapVerifier<Pose>::Gate(int dof) const {
+  return NoiseScaleAt(decision_pose_) * chi2_(dof);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::Catch() {
+  const PoseGraph<Pose>& graph = this->graph();
+  if (graph.num_poses() == 0) return;
+  if (!map_) {
+    map_ = std::make_unique<MaintainedMap<Pose>>(graph, chain_,
+                                                 options_.convergence);
+  }
+  // The verifier's graph has one forward odometry edge per pose, in order.
+  for (int k = chain_.num_poses(); k < graph.num_poses(); ++k) {
+    const auto& e = graph.odometry()[k - 1];
+    chain_.Append(e.measurement, e.information);
+  }
+  // The scale before pose p counts the loops that arrived with fewer than
+  // p + 1 poses.
+  const auto record_until = [&](int poses) {
+    while (static_cast<int>(scale_before_pose_.size()) < poses) {
+      scale_before_pose_.push_back(scale_.FromLoops());
+      samples_before_pose_.push_back(scale_.num_loop_samples());
+    }
+  };
+  const PoseId span = kClusterSpanWindows * options_.cluster_window;
+  for (int loop = static_cast<int>(this->cluster_of_loop_.size());
+       loop < static_cast<int>(graph.loops().size()); ++loop) {
+    record_until(this->poses_at_arrival(loop));
+    const auto& e = graph.loops()[loop];
+    const CondensedErrors alone =
+        SolveCondensed(graph, chain_, {loop}, options_.convergence);
+    if (alone.errors.solved) scale_.AddLoopSample(alone.errors.total_chi2);
+    const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
+    this->cluster_of_loop_.push_back(c);
+    if (c == static_cast<int>(records_.size())) {
+      records_.emplace_back();
+      pending_.push_back(c);
+    }
+    const Cluster& cluster = clustering_.clusters()[c];
+    if (cluster.start_high - cluster.start_low >= span) {
+      clustering_.Close(c);
+      records_[c].ready_pose = this->poses_at_arrival(loop) - 1;
+    }
+  }
+  record_until(graph.num_poses());
+}
+
+template <class Pose>
+int MapVerifier<Pose>::DecisionPose(int c, bool finish) const {
+  const PoseGraph<Pose>& graph = this->graph();
+  const int newest = graph.num_poses() - 1;
+  int pose = records_[c].ready_pose;
+  if (pose < 0) {
+    const int last = graph.IndexOf(clustering_.clusters()[c].start_high);
+    const int ready = last + options_.cluster_window;
+    pose = ready <= newest ? ready : (finish ? newest : -1);
+  }
+  if (pose < 0 || options_.noise_scale > 0.0) return pose;
+  // With an estimated scale, decisions wait for enough loops to sample it.
+  if (samples_before_pose_[newest] < kMinLoopSamples) {
+    return finish ? newest : -1;
+  }
+  const auto known =
+      std::lower_bound(samples_before_pose_.begin(), samples_before_pose_.end(),
+                       kMinLoopSamples);
+  return std::max(pose, static_cast<int>(known - samples_before_pose_.begin()));
+}
+
+template <class Pose>
+std::vector<DecisionChange> MapVerifier<Pose>::Judge(bool finish) {
+  Catch();
+  const auto& clusters = clustering_.clusters();
+  std::vector<std::pair<int, int>> ready;  // (decision pose, cluster)
+  auto still_pending = pending_.begin();
+  for (const int c : pending_) {
+    const int pose = DecisionPose(c, finish);
+    if (pose >= 0) {
+      ready.emplace_back(pose, c);
+    } else {
+      *still_pending++ = c;
+    }
+  }
+  pending_.erase(still_pending, pending_.end());
+  std::sort(ready.begin(), ready.end(), [&](const auto& a, const auto& b) {
+    return std::make_tuple(a.first, clusters[a.second].start_high, a.second) <
+           std::make_tuple(b.first, clusters[b.second].start_high, b.second);
+  });
+  for (const auto& [pose, c] : ready) {
+    clustering_.Close(c);
+    decision_pose_ = pose;
+    JudgeCluster(c);
+    ReopenWhileNeeded();
+  }
+  if (finish) {
+    decision_pose_ = this->graph().num_poses() - 1;
+    OptimizeMap();
+    ReopenWhileNeeded();
+  }
+  return PublishStates();
+}
+
+template <class Pose>
+std::vector<Pose> MapVerifier<Pose>::Map() {
+  Catch();
+  if (!map_) return {};
+  return map_->Estimates();
+}
+
+template <class Pose>
+std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
+  std::sort(touched_.begin(), touched_.end());
+  touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
+  std::vector<DecisionChange> changes;
+  const auto& clusters = clustering_.clusters();
+  for (const int c : touched_) {
+    const ClusterRecord& record = records_[c];
+    for (const int loop : clusters[c].loops) {
+      LoopState state = LoopState::kPending;
+      if (record.status == Status::kAccepted &&
+          std::find(record.survivors.begin(), record.survivors.end(), loop) !=
+              record.survivors.end()) {
+        state = LoopState::kAccepted;
+      } else if (record.status != Status::kPending) {
+        state = LoopState::kRejected;
+      }
+      this->SetState(this->candidate_of_loop(loop), state, &changes);
+    }
+  }
+  touched_.clear();
+  std::sort(changes.begin(), changes.end(),
+            [](const DecisionChange& a, const DecisionChange& b) {
+              return a.candidate < b.candidate;
+            });
+  return changes;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::JudgeCluster(int c) {
+  const std::vector<int>& members = clustering_.clusters()[c].loops;
+  ClusterRecord& record = records_[c];
+  // Drop the worst link until the rest is consistent with the odometry.
+  const int e = Pose::kDof;
+  std::vector<int> links = members;
+  record.survivors.clear();
+  record.judged_scale = NoiseScaleAt(decision_pose_);
+  while (!links.empty()) {
+    ++stats_.intra_solves;
+    this->CountSolves(1);
+    const CondensedErrors intra =
+        SolveCondensed(this->graph(), chain_, links, options_.convergence);
+    if (!intra.minimize.converged) ++stats_.not_converged;
+    const std::vector<double>& d2 = intra.errors.loop_chi2;
+    if (intra.errors.solved &&
+        intra.errors.total_chi2 < Gate(e * static_cast<int>(links.size()))) {
+      for (size_t k = 0; k < links.size(); ++k) {
+        if (d2[k] < Gate(e)) record.survivors.push_back(links[k]);
+      }
+      break;
+    }
+    if (!intra.errors.solved) break;
+    links.erase(links.begin() +
+                (std::max_element(d2.begin(), d2.end()) - d2.begin()));
+  }
+  if (record.survivors.empty()) {
+    record.status = Status::kRejected;
+    touched_.push_back(c);
+    return;
+  }
+  JudgeAgainstMap(c);
+}
+
+template <class Pose>
+double MapVerifier<Pose>::ClusterChi2AtEstimate(int c) const {
+  double sum = 0.0;
+  for (const int loop : records_[c].survivors) sum += map_->LoopChi2(loop);
+  return sum;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::JudgeAgainstMap(int c) {
+  const int e = Pose::kDof;
+  const std::vector<int>& links = records_[c].survivors;
+  const double gate = Gate(e * static_cast<int>(links.size()));
+  const double at_estimate = ClusterChi2AtEstimate(c);
+  const int dof = e * static_cast<int>(links.size());
+  if (at_estimate < gate) {
+    ++stats_.quick_accepts;
+    scale_.SetClusterSample(c, at_estimate, dof);
+    Accept(c, true);
+    return;
+  }
+  const int wide = kWideRadiusFactor * options_.map_radius;
+  ++stats_.trials;
+  this->CountSolves(1);
+  MapTrial trial = map_->Try(links, options_.map_radius);
+  // A near miss may be the held boundary's doing: look wider.
+  if (trial.minimize.solved && trial.increase >= gate &&
+      trial.increase < kNearMissFactor * gate) {
+    ++stats_.trials;
+    this->CountSolves(1);
+    trial = map_->Try(links, wide);
+  }
+  if (!trial.minimize.converged) ++stats_.not_converged;
+  if (trial.minimize.solved && trial.increase < gate) {
+    map_->KeepTrial(Significant());
+    scale_.SetClusterSample(c, trial.increase, dof);
+    Accept(c, false);
+    return;
+  }
+  // Conflict. The accepted clusters the trial strained most, more than c
+  // is left unsatisfied (each normalized by its gate), are set aside in turn
+  // while c still does not fit; if c then fits, they stay out (reversals),
+  // else they are restored and c is set aside.
+  const double unsatisfied =
+      std::accumulate(trial.loop_chi2.begin(), trial.loop_chi2.end(), 0.0) /
+      gate;
+  std::vector<std::pair<double, int>> strained;  // (strain, cluster)
+  {
+    std::vector<std::pair<int, double>> strain_of;  // (cluster, Δd²)
+    for (const auto& l : trial.map_loops) {
+      strain_of.emplace_back(this->cluster_of_loop_[l.loop],
+                             l.after - l.before);
+    }
+    std::sort(strain_of.begin(), strain_of.end());
+    for (size_t k = 0; k < strain_of.size();) {
+      const int a = strain_of[k].first;
+      double sum = 0.0;
+      for (; k < strain_of.size() && strain_of[k].first == a; ++k) {
+        sum += strain_of[k].second;
+      }
+      const double strain =
+          sum / Gate(e * static_cast<int>(records_[a].survivors.size()));
+      if (strain > unsatisfied) strained.emplace_back(strain, a);
+    }
+    std::sort(strained.rbegin(), strained.rend());
+  }
+  std::vector<int> removed;
+  for (const auto& [strain, a] : strained) {
+    if (removed.size() == kMostReversalsPerConflict) break;
+    map_->Remove(records_[a].survivors, wide, Significant());
+    removed.push_back(a);
+    ++stats_.trials;
+    this->CountSolves(1);
+    const MapTrial without = map_->Try(links, wide);
+    if (without.minimize.solved && without.increase < gate) {
+      map_->KeepTrial(Significant());
+      scale_.SetClusterSample(c, without.increase, dof);
+      for (const int r : removed) {
+        ++stats_.reversals;
+        records_[r].status = Status::kSetAside;
+        scale_.RemoveClusterSample(r);
+        touched_.push_back(r);
+      }
+      reopen_needed_ = true;
+      Accept(c, false);
+      return;
+    }
+  }
+  for (auto it = removed.rbegin(); it != removed.rend(); ++it) {
+    map_->Add(records_[*it].survivors, wide, Significant());
+  }
+  SetAside(c);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::Accept(int c, bool add_to_map) {
+  ClusterRecord& record = records_[c];
+  if (add_to_map)
+    map_->Add(record.survivors, options_.map_radius, Significant());
+  record.status = Status::kAccepted;
+  touched_.push_back(c);
+  ++accepted_clusters_;
+  if (++accepted_since_optimize_ >=
+      std::max<double>(options_.optimize_every,
+                       options_.optimize_growth * accepted_clusters_)) {
+    OptimizeMap();
+  }
+}
+
+template <class Pose>
+void MapVerifier<Pose>::SetAside(int c) {
+  ClusterRecord& record = records_[c];
+  if (record.status == Status::kAccepted) {
+    map_->Remove(record.survivors, options_.map_radius, Significant());
+    scale_.RemoveClusterSample(c);
+    reopen_needed_ = true;
+  }
+  record.status = Status::kSetAside;
+  touched_.push_back(c);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::OptimizeMap() {
+  if (!map_) return;
+  ++stats_.optimizations;
+  this->CountSolves(1);
+  const MinimizeResult result = map_->Optimize();
+  if (!result.converged) ++stats_.not_converged;
+  accepted_since_optimize_ = 0;
+  reopen_needed_ = true;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::ReopenWhileNeeded() {
+  // Each round may change the map and call for another; a few suffice.
+  for (int round = 0; round < kMostReopenRounds && reopen_needed_; ++round) {
+    Reopen();
+  }
+}
+
+template <class Pose>
+void MapVerifier<Pose>::Reopen() {
+  reopen_needed_ = false;
+  const int e = Pose::kDof;
+  const double scale = NoiseScaleAt(decision_pose_);
+  for (size_t c = 0; c < records_.size(); ++c) {
+    ClusterRecord& record = records_[c];
+    if (record.status == Status::kRejected) {
+      if (scale >= kRejudgeScaleRatio * record.judged_scale) {
+        ++stats_.reopened;
+        JudgeCluster(static_cast<int>(c));
+      }
+      continue;
+    }
+    const int dof = e * static_cast<int>(record.survivors.size());
+    const bool strained = record.status == Status::kAccepted &&
+                          ClusterChi2AtEstimate(c) >= Gate(dof);
+    const bool fits = record.status == Status::kSetAside &&
+                      ClusterChi2AtEstimate(c) < Gate(dof);
+    if (!strained && !fits) continue;
+    ++stats_.reopened;
+    if (strained) {
+      map_->Remove(record.survivors, options_.map_radius, Significant());
+      scale_.RemoveClusterSample(static_cast<int>(c));
+      record.status = Status::kSetAside;
+      touched_.push_back(static_cast<int>(c));
+    }
+    JudgeAgainstMap(static_cast<int>(c));
+  }
+}
+
+template <class Pose>
+Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
+                      std::vector<Pose>* map, MapVerifierStats* stats) {
+  MapVerifier<Pose> verifier(options);
+  const OdometryChain<Pose> chain = ChainOf(graph);
+  std::vector<std::vector<int>> ending_at(graph.num_poses());
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    ending_at[std::max(e.from, e.to)].push_back(static_cast<int>(k));
+  }
+  std::vector<int> loop_of_candidate;
+  for (int p = 0; p < graph.num_poses(); ++p) {
+    if (p == 0) {
+      verifier.AddFirstPose(graph.ids()[0], graph.estimates()[0]);
+    } else {
+      const Constraint<Pose> step = chain.Between(p - 1, p);
+      verifier.AddOdometry(step.measurement, step.information);
+    }
+    for (const int k : ending_at[p]) {
+      const auto& e = graph.loops()[k];
+      verifier.AddLoop(graph.ids()[e.from], graph.ids()[e.to], e.measurement,
+                       e.information);
+      loop_of_candidate.push_back(k);
+    }
+    verifier.Update();
+  }
+  verifier.Finish();
+
+  Verdict verdict;
+  verdict.cluster_of_loop.assign(graph.loops().size(), -1);
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    const int k = loop_of_candidate[c];
+    verdict.cluster_of_loop[k] = verifier.cluster_of(c);
+    (verifier.state(c) == LoopState::kAccepted ? verdict.accepted
+                                               : verdict.rejected)
+        .push_back(k);
+  }
+  std::sort(verdict.accepted.begin(), verdict.accepted.end());
+  std::sort(verdict.rejected.begin(), verdict.rejected.end());
+  verdict.clusters.resize(verifier.num_clusters());
+  for (size_t k = 0; k < verdict.cluster_of_loop.size(); ++k) {
+    verdict.clusters[verdict.cluster_of_loop[k]].loops.push_back(
+        static_cast<int>(k));
+  }
+  if (map) *map = verifier.Map();
+  if (stats) *stats = verifier.stats();
+  return verdict;
+}
+
+template class MapVerifier<Pose2>;
+template class MapVerifier<Pose3>;
+template Verdict VerifyWithMap(const PoseGraph<Pose2>&, const RrrOptions&,
+                               std::vector<Pose2>*, MapVerifierStats*);
+template Verdict VerifyWithMap(const PoseGraph<Pose3>&, const RrrOptions&,
+                               std::vector<Pose3>*, MapVerifierStats*);
+
+}  // namespace rrr

@@ -1,0 +1,58 @@
+#include "rrr/rrr/noise_scale.h"
+
+#include <algorithm>
+
+#include "rrr/rrr/chi_square.h"
+
+namespace rrr {
+namespace {
+
+// The q-quantile of `values` (not empty), by the nearest lower rank.
+double Quantile(std::vector<double> values, double q) {
+  const auto at =
+      values.begin() +
+      static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+}  // namespace
+
+NoiseScaleEstimate::NoiseScaleEstimate(int residual_dim)
+    : residual_dim_(residual_dim),
+      chi2_quantile_ratio_(ChiSquareQuantile(kLoopQuantile)(residual_dim) /
+                           residual_dim) {}
+
+void NoiseScaleEstimate::AddLoopSample(double chi2) {
+  loops_.push_back(chi2 / residual_dim_);
+  from_loops_ = std::min(1.0, std::max(Quantile(loops_, kLoopQuantile), 1e-12) /
+                                  chi2_quantile_ratio_);
+}
+
+void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,
+                                          int dof) {
+  clusters_[cluster] = std::max(increase, 0.0) / dof;
+  RemoveClusterSample(-1);
+}
+
+void NoiseScaleEstimate::RemoveClusterSample(int cluster) {
+  clusters_.erase(cluster);
+  if (static_cast<int>(clusters_.size()) < kMinClusters) {
+    from_clusters_ = 0.0;
+    return;
+  }
+  std::vector<double> values;
+  values.reserve(clusters_.size());
+  for (const auto& [c, v] : clusters_) values.push_back(v);
+  from_clusters_ = std::max(Quantile(values, 0.5), 1e-12);
+}
+
+double NoiseScaleEstimate::Value(double from_loops) const {
+  return from_clusters_ > 0.0 ? from_clusters_ : from_loops;
+}
+
+std::string NoiseScaleEstimate::Source() const {
+  return from_clusters_ > 0.0 ? "clusters" : "loops";
+}
+
+}  // namespace rrr

@@ -1,0 +1,129 @@
+#include "rrr/rrr/online_verifier.h"
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+
+namespace rrr {
+
+const char* ToString(LoopState state) {
+  switch (state) {
+    case LoopState::kPending:
+      return "pending";
+    case LoopState::kAccepted:
+      return "accepted";
+    case LoopState::kRejected:
+      return "rejected";
+  }
+  return "unknown";
+}
+
+template <class Pose>
+void OnlineVerifier<Pose>::AddFirstPose(PoseId id, const Pose& pose) {
+  if (graph_.num_poses() > 0) throw std::logic_error("the chain has started");
+  graph_.AddPose(id, pose);
+  ApplyWaiting();
+}
+
+template <class Pose>
+PoseId OnlineVerifier<Pose>::AddOdometry(const Pose& z,
+                                         const Information& information) {
+  if (graph_.num_poses() == 0) {
+    throw std::logic_error("odometry before the first pose");
+  }
+  const int from = graph_.num_poses() - 1;
+  const PoseId id = graph_.ids().back() + 1;
+  const int to = graph_.AddPose(id, graph_.estimates().back() * z);
+  graph_.AddEdge(Constraint<Pose>{from, to, z, information});
+  ApplyWaiting();
+  return id;
+}
+
+template <class Pose>
+int OnlineVerifier<Pose>::AddLoop(PoseId a, PoseId b, const Pose& z,
+                                  const Information& information) {
+  if (std::llabs(a - b) < 2) {
+    throw std::invalid_argument("a loop candidate needs |a - b| > 1, got " +
+                                std::to_string(a) + " and " +
+                                std::to_string(b));
+  }
+  if (graph_.num_poses() > 0 && std::min(a, b) < graph_.ids().front()) {
+    throw std::invalid_argument("pose " + std::to_string(std::min(a, b)) +
+                                " precedes the first pose " +
+                                std::to_string(graph_.ids().front()));
+  }
+  candidates_.push_back(Candidate{a, b, z, information});
+  waiting_.push_back(num_candidates() - 1);
+  ApplyWaiting();
+  return num_candidates() - 1;
+}
+
+template <class Pose>
+void OnlineVerifier<Pose>::ApplyWaiting() {
+  auto still_waiting = waiting_.begin();
+  for (const int c : waiting_) {
+    Candidate& cand = candidates_[c];
+    const int from = graph_.IndexOf(cand.a), to = graph_.IndexOf(cand.b);
+    if (from < 0 || to < 0) {
+      *still_waiting++ = c;
+      continue;
+    }
+    graph_.AddEdge(
+        Constraint<Pose>{from, to, cand.measurement, cand.information});
+    cand.loop = static_cast<int>(graph_.loops().size()) - 1;
+    candidate_of_loop_.push_back(c);
+    poses_at_arrival_.push_back(graph_.num_poses());
+  }
+  waiting_.erase(still_waiting, waiting_.end());
+}
+
+template <class Pose>
+int OnlineVerifier<Pose>::cluster_of(int candidate) const {
+  const int loop = loop_of(candidate);
+  return loop < 0 || loop >= static_cast<int>(cluster_of_loop_.size())
+             ? -1
+             : cluster_of_loop_[loop];
+}
+
+template <class Pose>
+std::pair<PoseId, PoseId> OnlineVerifier<Pose>::ends_of(int candidate) const {
+  return {candidates_.at(candidate).a, candidates_.at(candidate).b};
+}
+
+template <class Pose>
+std::vector<int> OnlineVerifier<Pose>::AcceptedLoops() const {
+  std::vector<int> accepted;
+  for (size_t loop = 0; loop < candidate_of_loop_.size(); ++loop) {
+    if (candidates_[candidate_of_loop_[loop]].state == LoopState::kAccepted) {
+      accepted.push_back(static_cast<int>(loop));
+    }
+  }
+  return accepted;
+}
+
+template <class Pose>
+std::vector<DecisionChange> OnlineVerifier<Pose>::SetStates(
+    const std::vector<LoopState>& next) {
+  std::vector<DecisionChange> changes;
+  for (size_t c = 0; c < candidates_.size(); ++c) {
+    SetState(static_cast<int>(c), next[c], &changes);
+  }
+  return changes;
+}
+
+template <class Pose>
+void OnlineVerifier<Pose>::SetState(int candidate, LoopState state,
+                                    std::vector<DecisionChange>* changes) {
+  Candidate& c = candidates_[candidate];
+  if (c.state == state) return;
+  changes->push_back({candidate, c.state, state});
+  c.state = state;
+}
+
+template class OnlineVerifier<Pose2>;
+template class OnlineVerifier<Pose3>;
+
+}  // namespace rrr
