@@ -3,6 +3,7 @@
 #ifndef RRR_RRR_ONLINE_VERIFIER_H_
 #define RRR_RRR_ONLINE_VERIFIER_H_
 
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -106,6 +107,19 @@ class OnlineVerifier {
   std::vector<int> poses_at_arrival_;   // graph loop index -> poses
   int num_solves_ = 0;
 };
+
+// Feeds `graph` to `verifier` as a robot would produce it: pose after pose
+// (odometry from the graph's chain, see ChainOf), each loop candidate right
+// after its later pose, Update() after every `update_every` poses, then
+// Finish(). Calls `on_changes` with the changes of each update if given.
+// Returns the graph loop index of each candidate number. Throws
+// std::invalid_argument if a pose has no odometry to its predecessor.
+template <class Pose>
+std::vector<int> FeedInArrivalOrder(
+    const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
+    int update_every = 1,
+    const std::function<void(const std::vector<DecisionChange>&)>&
+        on_changes = nullptr);
 
 }  // namespace rrr
 

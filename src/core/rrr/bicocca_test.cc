@@ -1,5 +1,6 @@
-// Batch RRR on the real Bicocca 25b data, when the datasets are present
-// (RRR_DATASETS, default ../shared/datasets beside the source tree).
+// RRR (published and map procedures) on the real Bicocca 25b data, when the
+// datasets are present (RRR_DATASETS, default ../shared/datasets beside the
+// source tree).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -12,15 +13,18 @@
 #include "rrr/eval/loop_scores.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
+#include "rrr/rrr/map_verifier.h"
 #include "rrr/solver/gauss_newton.h"
 
 namespace rrr {
 namespace {
 
 // Checks precision 1 (topological rule) and recall at least the reference
-// implementation's at `level`.
+// implementation's at `level`, with the published procedure (optionally with
+// the span gate) or the map procedure.
 void ExpectFullPrecisionAndReferenceRecall(const std::string& level,
-                                           bool span_gate) {
+                                           bool span_gate,
+                                           Procedure procedure) {
   const std::string dir = testing::DatasetDir() + "/bicocca25b/";
   const std::string path = dir + "B25b_" + level + ".g2o";
   if (!std::ifstream(path)) {
@@ -32,7 +36,9 @@ void ExpectFullPrecisionAndReferenceRecall(const std::string& level,
   RrrOptions options;
   options.cluster_window = 50;
   options.span_gate = span_gate;
-  const Verdict v = VerifyBatch(LoopEnds(graph), solver, options);
+  const Verdict v = procedure == Procedure::kMap
+                        ? VerifyWithMap(graph, options)
+                        : VerifyBatch(LoopEnds(graph), solver, options);
   const auto labels = ReadLoopLabels(dir + "labels_all_levels.txt", level);
   const auto reference =
       ReadLoopList(dir + "reference_rrr_accepted/" + level + ".txt");
@@ -54,7 +60,8 @@ void ExpectFullPrecisionAndReferenceRecall(const std::string& level,
 // The method as published: levels where it keeps full precision.
 class BicoccaTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(BicoccaTest, FullPrecisionAndAtLeastTheReferenceRecall) {
-  ExpectFullPrecisionAndReferenceRecall(GetParam(), /*span_gate=*/false);
+  ExpectFullPrecisionAndReferenceRecall(GetParam(), /*span_gate=*/false,
+                                        Procedure::kPublished);
 }
 INSTANTIATE_TEST_SUITE_P(Levels, BicoccaTest,
                          ::testing::Values("0.000", "0.150", "0.175", "0.500",
@@ -63,7 +70,8 @@ INSTANTIATE_TEST_SUITE_P(Levels, BicoccaTest,
 // With the span gate: every one of the 41 levels.
 class BicoccaSpanGateTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(BicoccaSpanGateTest, FullPrecisionAndAtLeastTheReferenceRecall) {
-  ExpectFullPrecisionAndReferenceRecall(GetParam(), /*span_gate=*/true);
+  ExpectFullPrecisionAndReferenceRecall(GetParam(), /*span_gate=*/true,
+                                        Procedure::kPublished);
 }
 std::vector<std::string> AllLevels() {
   std::vector<std::string> levels;
@@ -75,6 +83,15 @@ std::vector<std::string> AllLevels() {
   return levels;
 }
 INSTANTIATE_TEST_SUITE_P(AllLevels, BicoccaSpanGateTest,
+                         ::testing::ValuesIn(AllLevels()));
+
+// The map procedure, with its estimated noise scale: every level.
+class BicoccaMapProcedureTest : public ::testing::TestWithParam<std::string> {};
+TEST_P(BicoccaMapProcedureTest, FullPrecisionAndAtLeastTheReferenceRecall) {
+  ExpectFullPrecisionAndReferenceRecall(GetParam(), /*span_gate=*/false,
+                                        Procedure::kMap);
+}
+INSTANTIATE_TEST_SUITE_P(AllLevels, BicoccaMapProcedureTest,
                          ::testing::ValuesIn(AllLevels()));
 
 }  // namespace

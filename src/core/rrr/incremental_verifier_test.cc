@@ -9,6 +9,7 @@
 #include <set>
 
 #include "../testing/dataset_dir.h"
+#include "../testing/replay.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
@@ -18,53 +19,8 @@
 namespace rrr {
 namespace {
 
-using Pairs = std::set<std::pair<PoseId, PoseId>>;
-
-// Replays `graph` as a robot would produce it: pose after pose, each loop
-// candidate when its later pose exists, with an update after every pose.
-struct Replay {
-  IncrementalVerifier<Pose2> verifier;
-  // Reversed decisions, by direction.
-  int accepted_then_rejected = 0, rejected_then_accepted = 0;
-
-  Replay(const PoseGraph<Pose2>& graph, const RrrOptions& options)
-      : verifier(options) {
-    std::vector<std::vector<int>> loops_at(graph.num_poses());
-    for (size_t k = 0; k < graph.loops().size(); ++k) {
-      const auto& l = graph.loops()[k];
-      loops_at[std::max(l.from, l.to)].push_back(static_cast<int>(k));
-    }
-    verifier.AddFirstPose(graph.ids()[0], graph.estimates()[0]);
-    std::vector<const Constraint<Pose2>*> step(graph.num_poses(), nullptr);
-    for (const auto& e : graph.odometry()) step[std::max(e.from, e.to)] = &e;
-    for (int p = 1; p < graph.num_poses(); ++p) {
-      const auto& e = *step[p];
-      verifier.AddOdometry(e.to == p ? e.measurement : e.measurement.inverse(),
-                           e.information);
-      for (const int k : loops_at[p]) {
-        const auto& l = graph.loops()[k];
-        verifier.AddLoop(graph.ids()[l.from], graph.ids()[l.to], l.measurement,
-                         l.information);
-      }
-      Count(verifier.Update());
-    }
-    Count(verifier.Finish());
-  }
-  void Count(const std::vector<DecisionChange>& changes) {
-    for (const auto& c : changes) {
-      accepted_then_rejected += c.previous == LoopState::kAccepted;
-      rejected_then_accepted += c.previous == LoopState::kRejected;
-    }
-  }
-  Pairs Accepted() const {
-    Pairs out;
-    for (int c = 0; c < verifier.num_candidates(); ++c) {
-      if (verifier.state(c) == LoopState::kAccepted)
-        out.insert(verifier.ends_of(c));
-    }
-    return out;
-  }
-};
+using testing::Pairs;
+using Replay = testing::Replay<IncrementalVerifier<Pose2>, Pose2>;
 
 Pairs BatchAccepted(const PoseGraph<Pose2>& graph, const RrrOptions& options) {
   GaussNewton<Pose2> solver(graph, options.iterations);

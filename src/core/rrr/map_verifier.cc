@@ -387,29 +387,8 @@ template <class Pose>
 Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
                       std::vector<Pose>* map, MapVerifierStats* stats) {
   MapVerifier<Pose> verifier(options);
-  const OdometryChain<Pose> chain = ChainOf(graph);
-  std::vector<std::vector<int>> ending_at(graph.num_poses());
-  for (size_t k = 0; k < graph.loops().size(); ++k) {
-    const auto& e = graph.loops()[k];
-    ending_at[std::max(e.from, e.to)].push_back(static_cast<int>(k));
-  }
-  std::vector<int> loop_of_candidate;
-  for (int p = 0; p < graph.num_poses(); ++p) {
-    if (p == 0) {
-      verifier.AddFirstPose(graph.ids()[0], graph.estimates()[0]);
-    } else {
-      const Constraint<Pose> step = chain.Between(p - 1, p);
-      verifier.AddOdometry(step.measurement, step.information);
-    }
-    for (const int k : ending_at[p]) {
-      const auto& e = graph.loops()[k];
-      verifier.AddLoop(graph.ids()[e.from], graph.ids()[e.to], e.measurement,
-                       e.information);
-      loop_of_candidate.push_back(k);
-    }
-    verifier.Update();
-  }
-  verifier.Finish();
+  const std::vector<int> loop_of_candidate =
+      FeedInArrivalOrder(graph, &verifier);
 
   Verdict verdict;
   verdict.cluster_of_loop.assign(graph.loops().size(), -1);

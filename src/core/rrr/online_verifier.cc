@@ -1,11 +1,13 @@
 #include "rrr/rrr/online_verifier.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/odometry_chain.h"
 
 namespace rrr {
 
@@ -123,7 +125,48 @@ void OnlineVerifier<Pose>::SetState(int candidate, LoopState state,
   c.state = state;
 }
 
+template <class Pose>
+std::vector<int> FeedInArrivalOrder(
+    const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
+    int update_every,
+    const std::function<void(const std::vector<DecisionChange>&)>&
+        on_changes) {
+  const OdometryChain<Pose> chain = ChainOf(graph);
+  std::vector<std::vector<int>> ending_at(graph.num_poses());
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    ending_at[std::max(e.from, e.to)].push_back(static_cast<int>(k));
+  }
+  const auto report = [&](const std::vector<DecisionChange>& changes) {
+    if (on_changes) on_changes(changes);
+  };
+  std::vector<int> loop_of_candidate;
+  for (int p = 0; p < graph.num_poses(); ++p) {
+    if (p == 0) {
+      verifier->AddFirstPose(graph.ids()[0], graph.estimates()[0]);
+    } else {
+      const Constraint<Pose> step = chain.Between(p - 1, p);
+      verifier->AddOdometry(step.measurement, step.information);
+    }
+    for (const int k : ending_at[p]) {
+      const auto& e = graph.loops()[k];
+      verifier->AddLoop(graph.ids()[e.from], graph.ids()[e.to], e.measurement,
+                        e.information);
+      loop_of_candidate.push_back(k);
+    }
+    if ((p + 1) % update_every == 0) report(verifier->Update());
+  }
+  report(verifier->Finish());
+  return loop_of_candidate;
+}
+
 template class OnlineVerifier<Pose2>;
 template class OnlineVerifier<Pose3>;
+template std::vector<int> FeedInArrivalOrder(
+    const PoseGraph<Pose2>&, OnlineVerifier<Pose2>*, int,
+    const std::function<void(const std::vector<DecisionChange>&)>&);
+template std::vector<int> FeedInArrivalOrder(
+    const PoseGraph<Pose3>&, OnlineVerifier<Pose3>*, int,
+    const std::function<void(const std::vector<DecisionChange>&)>&);
 
 }  // namespace rrr

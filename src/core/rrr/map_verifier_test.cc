@@ -1,0 +1,143 @@
+// The map procedure: decisions on generated worlds, independence from when
+// updates run, reversals both ways, 3D.
+#include "rrr/rrr/map_verifier.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "../testing/noisy_chain.h"
+#include "../testing/replay.h"
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/sim/grid_world.h"
+
+namespace rrr {
+namespace {
+
+using Replay = testing::Replay<MapVerifier<Pose2>, Pose2>;
+
+// The end ids of the world's false loops.
+testing::Pairs FalsePairs(const SimulatedWorld& w) {
+  testing::Pairs out;
+  for (const int k : w.false_loops) {
+    const auto& l = w.graph.loops()[k];
+    out.insert({w.graph.ids()[l.from], w.graph.ids()[l.to]});
+  }
+  return out;
+}
+
+TEST(MapVerifier, AcceptsNoFalseLoopOfASpoiledWorld) {
+  for (const int group : {1, 4}) {
+    GridWorldOptions world;
+    world.poses = 2000;
+    world.false_loops = 60;
+    world.group = group;
+    const SimulatedWorld w = SimulateGridWorld(world);
+    const Replay replay(w.graph, RrrOptions());
+    const testing::Pairs accepted = replay.Accepted();
+    const testing::Pairs wrong = FalsePairs(w);
+    int true_accepted = 0;
+    for (const auto& pair : accepted) {
+      EXPECT_EQ(wrong.count(pair), 0u) << pair.first << "-" << pair.second;
+      true_accepted += wrong.count(pair) == 0;
+    }
+    const int true_loops =
+        static_cast<int>(w.graph.loops().size() - w.false_loops.size());
+    EXPECT_GE(true_accepted, 0.95 * true_loops) << "group " << group;
+    EXPECT_EQ(replay.verifier.num_waiting(), 0);
+    for (int c = 0; c < replay.verifier.num_candidates(); ++c) {
+      EXPECT_NE(replay.verifier.state(c), LoopState::kPending);
+    }
+  }
+}
+
+TEST(MapVerifier, DecisionsDoNotDependOnWhenUpdatesRun) {
+  GridWorldOptions world;
+  world.poses = 1500;
+  world.false_loops = 40;
+  world.group = 3;
+  const SimulatedWorld w = SimulateGridWorld(world);
+  const RrrOptions options;
+  const Replay every_pose(w.graph, options, 1);
+  const Replay every_13(w.graph, options, 13);
+  const Replay at_the_end(w.graph, options, w.graph.num_poses() + 1);
+  EXPECT_FALSE(every_pose.Accepted().empty());
+  EXPECT_EQ(every_13.Accepted(), every_pose.Accepted());
+  EXPECT_EQ(at_the_end.Accepted(), every_pose.Accepted());
+  // VerifyWithMap is the replay after every pose.
+  const Verdict verdict = VerifyWithMap(w.graph, options);
+  testing::Pairs batch;
+  for (const int k : verdict.accepted) {
+    const auto& l = w.graph.loops()[k];
+    batch.insert({w.graph.ids()[l.from], w.graph.ids()[l.to]});
+  }
+  EXPECT_EQ(batch, every_pose.Accepted());
+}
+
+// Two laps of a circle of kLap poses, exact odometry that is stiff in
+// translation and soft in rotation. Loops are added as `(a, b, measured as
+// the truth of (a, b + shift))`.
+constexpr int kLap = 400;
+struct Circle {
+  PoseGraph<Pose2> graph;
+  std::vector<Pose2> truth;
+
+  Circle() {
+    const double step = 2.0 * M_PI / kLap;
+    for (int k = 0; k < 2 * kLap; ++k) {
+      truth.push_back(k == 0 ? Pose2() : truth.back() * Pose2(1.0, 0.0, step));
+      graph.AddPose(k, truth.back());
+    }
+    Pose2::Jacobian info = Pose2::Jacobian::Identity();
+    info.diagonal() << 100.0, 100.0, 1e4;
+    for (int k = 0; k + 1 < 2 * kLap; ++k) {
+      graph.AddEdge({k, k + 1, truth[k].between(truth[k + 1]), info});
+    }
+  }
+  void AddLoops(int a, int b, int count, int shift) {
+    Pose2::Jacobian info = Pose2::Jacobian::Identity();
+    info.diagonal() << 100.0, 100.0, 1e4;
+    for (int k = 0; k < count; ++k) {
+      graph.AddEdge(
+          {a + k, b + k, truth[a + k].between(truth[b + k + shift]), info});
+    }
+  }
+};
+
+TEST(MapVerifier, ReversesDecisionsBothWaysOnNewEvidence) {
+  Circle circle;
+  // F, first: five false links that claim lap 2 is ten poses further on.
+  circle.AddLoops(30, kLap + 20, 5, -10);
+  // T0: one true link, weaker than F; T1: ten true links.
+  circle.AddLoops(50, kLap + 50, 1, 0);
+  circle.AddLoops(80, kLap + 80, 10, 0);
+  RrrOptions options;
+  options.noise_scale = 1.0;
+  const Replay replay(circle.graph, options);
+  // Along the way F was accepted and dropped, T0 rejected and accepted...
+  EXPECT_GT(replay.accepted_then_rejected, 0);
+  EXPECT_GT(replay.rejected_then_accepted, 0);
+  // ... and the end holds exactly the true links.
+  testing::Pairs truth;
+  truth.insert({50, kLap + 50});
+  for (int k = 0; k < 10; ++k) truth.insert({80 + k, kLap + 80 + k});
+  EXPECT_EQ(replay.Accepted(), truth);
+}
+
+TEST(MapVerifier, RejectsAFalseLoopIn3D) {
+  auto graph = testing::NoisyChain<Pose3>(
+      600, {{10, 136}, {12, 138}, {140, 266}, {150, 276}, {270, 396}}, 0.01);
+  Constraint<Pose3> wrong = graph.loops()[0];
+  wrong.from = 200;
+  wrong.to = 500;
+  wrong.measurement = Pose3();
+  graph.AddEdge(wrong);
+  const Verdict verdict = VerifyWithMap(graph, RrrOptions());
+  EXPECT_EQ(verdict.accepted, (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(verdict.rejected, (std::vector<int>{5}));
+}
+
+}  // namespace
+}  // namespace rrr

@@ -1,0 +1,51 @@
+// A noisy pose chain with loops, for solver and map tests.
+#ifndef RRR_CORE_TESTING_NOISY_CHAIN_H_
+#define RRR_CORE_TESTING_NOISY_CHAIN_H_
+
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "rrr/graph/pose_graph.h"
+
+namespace rrr::testing {
+
+// `n` poses turning slowly, odometry and loops between the listed pairs
+// (a, b), every measurement the truth perturbed by N(0, noise) in each
+// tangent coordinate, with information I / noise². The first pose's
+// estimate is the truth; the others are the truth too (callers start solves
+// from odometry).
+template <class Pose>
+PoseGraph<Pose> NoisyChain(int n, const std::vector<std::pair<int, int>>& ab,
+                           double noise, unsigned seed = 11) {
+  constexpr int D = Pose::kDof;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal(0.0, noise);
+  std::vector<Pose> truth(n);
+  for (int k = 1; k < n; ++k) {
+    typename Pose::Tangent xi = Pose::Tangent::Zero();
+    xi[0] = 1.0;
+    xi[D - 1] = 0.05;
+    truth[k] = truth[k - 1] * Pose::Exp(xi);
+  }
+  const auto noisy = [&](const Pose& z) {
+    typename Pose::Tangent e;
+    for (int a = 0; a < D; ++a) e[a] = normal(rng);
+    return z * Pose::Exp(e);
+  };
+  const typename Constraint<Pose>::Information info =
+      Constraint<Pose>::Information::Identity() / (noise * noise);
+  PoseGraph<Pose> graph;
+  for (int k = 0; k < n; ++k) graph.AddPose(k, truth[k]);
+  for (int k = 0; k + 1 < n; ++k) {
+    graph.AddEdge({k, k + 1, noisy(truth[k].between(truth[k + 1])), info});
+  }
+  for (const auto& [a, b] : ab) {
+    graph.AddEdge({a, b, noisy(truth[a].between(truth[b])), info});
+  }
+  return graph;
+}
+
+}  // namespace rrr::testing
+
+#endif  // RRR_CORE_TESTING_NOISY_CHAIN_H_
