@@ -58,6 +58,15 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   nh.param("alpha", o.rrr.alpha, o.rrr.alpha);
   nh.param("span_gate", o.rrr.span_gate, o.rrr.span_gate);
   nh.param("threads", o.rrr.threads, o.rrr.threads);
+  std::string procedure = rrr::ToString(o.rrr.procedure);
+  nh.param("procedure", procedure, procedure);
+  if (!rrr::ParseProcedure(procedure, &o.rrr.procedure)) {
+    Bad(nh, "procedure",
+        "must be 'map' or 'published', got '" + procedure + "'");
+  }
+  nh.param("noise_scale", o.rrr.noise_scale, o.rrr.noise_scale);
+  nh.param("noise_margin", o.rrr.noise_margin, o.rrr.noise_margin);
+  nh.param("map_radius", o.rrr.map_radius, o.rrr.map_radius);
   const std::string problem = o.rrr.Validate();
   if (!problem.empty()) {
     Bad(nh, problem.substr(0, problem.find(' ')), problem);

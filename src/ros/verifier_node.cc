@@ -11,7 +11,8 @@
 
 #include "msg_conversion.h"
 #include "rrr/io/g2o.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/rrr/incremental_verifier.h"
+#include "rrr/rrr/map_verifier.h"
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Keyframe.h"
@@ -60,6 +61,15 @@ std::string WrongFrame(const std::string& frame, const std::string& name,
   return "frame '" + frame + "' is not the " + role + " frame '" + name + "'";
 }
 
+template <class Pose>
+std::unique_ptr<rrr::OnlineVerifier<Pose>> MakeVerifier(
+    const rrr::RrrOptions& options) {
+  if (options.procedure == rrr::Procedure::kMap) {
+    return std::make_unique<rrr::MapVerifier<Pose>>(options);
+  }
+  return std::make_unique<rrr::IncrementalVerifier<Pose>>(options);
+}
+
 }  // namespace
 
 template <class Pose>
@@ -69,7 +79,7 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
     : options_(options),
       nh_(nh),
       private_nh_(private_nh),
-      verifier_(options.rrr) {
+      verifier_(MakeVerifier<Pose>(options.rrr)) {
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
   marker_pub_ =
@@ -150,7 +160,7 @@ template <class Pose>
 bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
                                      rrr_slam::SaveGraph::Response& res) {
   RunOnWorker([&] {
-    const auto& g = verifier_.graph();
+    const auto& g = verifier_->graph();
     if (g.num_poses() == 0) {
       res.success = false;
       res.message = "no keyframes yet";
@@ -163,14 +173,14 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
       return;
     }
     const std::vector<int> loops =
-        req.with_candidates ? rrr::AllLoops(g) : verifier_.AcceptedLoops();
+        req.with_candidates ? rrr::AllLoops(g) : verifier_->AcceptedLoops();
     rrr::WriteG2o(g, map_, loops, out);
     if (req.with_candidates) {
-      for (int c = 0; c < verifier_.num_candidates(); ++c) {
-        const auto [a, b] = verifier_.ends_of(c);
+      for (int c = 0; c < verifier_->num_candidates(); ++c) {
+        const auto [a, b] = verifier_->ends_of(c);
         out << "# DECISION " << a << ' ' << b << ' '
-            << rrr::ToString(verifier_.state(c))
-            << (verifier_.loop_of(c) < 0 ? " waiting" : "") << '\n';
+            << rrr::ToString(verifier_->state(c))
+            << (verifier_->loop_of(c) < 0 ? " waiting" : "") << '\n';
       }
     }
     out.close();
@@ -336,7 +346,7 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
     return Invalid(what, "its stamp is older than the last keyframe's");
   }
   if (keyframe_odom_.empty()) {
-    verifier_.AddFirstPose(0, pose);
+    verifier_->AddFirstPose(0, pose);
     map_.push_back(pose);
   } else {
     const Pose motion = keyframe_odom_.back().between(pose);
@@ -357,7 +367,7 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
         information(k, k) = options_.odometry_information[k];
       }
     }
-    verifier_.AddOdometry(motion, information);
+    verifier_->AddOdometry(motion, information);
     map_.push_back(map_.back() * motion);
   }
   keyframe_odom_.push_back(pose);
@@ -366,7 +376,7 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   rrr_slam::Keyframe keyframe;
   keyframe.header.stamp = msg->header.stamp;
   keyframe.header.frame_id = options_.odom_frame;
-  keyframe.id = verifier_.graph().ids().back();
+  keyframe.id = verifier_->graph().ids().back();
   keyframe.pose = msg->pose.pose;
   keyframe_pub_.publish(keyframe);
   ResolveStampedLoops();
@@ -420,8 +430,8 @@ void VerifierNode<Pose>::ResolveStampedLoops() {
               "no keyframe within " + std::to_string(options_.stamp_tolerance) +
                   " s of its " + (from < 0 ? "from" : "to") + " stamp");
     } else {
-      AddLoopCandidate(msg, verifier_.graph().ids()[from],
-                       verifier_.graph().ids()[to]);
+      AddLoopCandidate(msg, verifier_->graph().ids()[from],
+                       verifier_->graph().ids()[to]);
     }
   }
   stamped_waiting_.erase(keep, stamped_waiting_.end());
@@ -442,7 +452,7 @@ void VerifierNode<Pose>::AddLoopCandidate(const rrr_slam::LoopClosure& msg,
   }
   if (from < 0 || to < 0) return Invalid(what, "keyframe ids start at 0");
   try {
-    verifier_.AddLoop(from, to, z, information);
+    verifier_->AddLoop(from, to, z, information);
   } catch (const std::invalid_argument& e) {
     return Invalid(what, e.what());
   }
@@ -452,8 +462,8 @@ template <class Pose>
 void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<rrr::DecisionChange> changes =
-      finish ? verifier_.Finish() : verifier_.Update();
-  const std::vector<int> accepted = verifier_.AcceptedLoops();
+      finish ? verifier_->Finish() : verifier_->Update();
+  const std::vector<int> accepted = verifier_->AcceptedLoops();
   const bool accepted_changed = accepted != last_accepted_;
   if (accepted_changed || finish) {
     last_accepted_ = accepted;
@@ -461,7 +471,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     PublishAcceptedGraph();
   }
   if (!changes.empty() || finish ||
-      verifier_.num_candidates() != published_candidates_) {
+      verifier_->num_candidates() != published_candidates_) {
     PublishDecisions(changes);
   }
   const ros::WallTime now = ros::WallTime::now();
@@ -487,11 +497,11 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
     tf_broadcaster_.sendTransform(t);
   }
-  status_.keyframes = verifier_.graph().num_poses();
-  status_.candidates = verifier_.num_candidates();
+  status_.keyframes = verifier_->graph().num_poses();
+  status_.candidates = verifier_->num_candidates();
   status_.accepted = status_.rejected = status_.pending = 0;
-  for (int c = 0; c < verifier_.num_candidates(); ++c) {
-    switch (verifier_.state(c)) {
+  for (int c = 0; c < verifier_->num_candidates(); ++c) {
+    switch (verifier_->state(c)) {
       case rrr::LoopState::kAccepted:
         ++status_.accepted;
         break;
@@ -504,8 +514,11 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     }
   }
   status_.waiting =
-      verifier_.num_waiting() + static_cast<uint32_t>(stamped_waiting_.size());
-  status_.clusters = verifier_.num_clusters();
+      verifier_->num_waiting() + static_cast<uint32_t>(stamped_waiting_.size());
+  status_.clusters = verifier_->num_clusters();
+  status_.procedure = rrr::ToString(options_.rrr.procedure);
+  status_.noise_scale = verifier_->noise_scale();
+  status_.noise_scale_source = verifier_->noise_scale_source();
   ++status_.updates;
   status_.last_update_seconds = seconds;
   status_.max_update_seconds = std::max(status_.max_update_seconds, seconds);
@@ -518,8 +531,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
 
 template <class Pose>
 void VerifierNode<Pose>::RecomputeMap() {
-  if (verifier_.graph().num_poses() == 0) return;
-  map_ = verifier_.Map();
+  if (verifier_->graph().num_poses() == 0) return;
+  map_ = verifier_->Map();
   // The map frame is the odometry frame of the first keyframe.
   const Pose shift = keyframe_odom_.front() * map_.front().inverse();
   for (Pose& p : map_) p = shift * p;
@@ -531,16 +544,16 @@ void VerifierNode<Pose>::PublishDecisions(
   rrr_slam::Decisions msg;
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = options_.map_frame;
-  std::vector<int> previous(verifier_.num_candidates(), -1);
+  std::vector<int> previous(verifier_->num_candidates(), -1);
   for (const auto& c : changes)
     previous[c.candidate] = static_cast<int>(c.previous);
-  for (int c = 0; c < verifier_.num_candidates(); ++c) {
+  for (int c = 0; c < verifier_->num_candidates(); ++c) {
     rrr_slam::LoopDecision d;
     d.candidate = c;
-    std::tie(d.from_id, d.to_id) = verifier_.ends_of(c);
-    d.state = ToMsg(verifier_.state(c));
-    d.cluster = verifier_.cluster_of(c);
-    d.waiting = verifier_.loop_of(c) < 0;
+    std::tie(d.from_id, d.to_id) = verifier_->ends_of(c);
+    d.state = ToMsg(verifier_->state(c));
+    d.cluster = verifier_->cluster_of(c);
+    d.waiting = verifier_->loop_of(c) < 0;
     d.previous_state = previous[c] < 0
                            ? d.state
                            : ToMsg(static_cast<rrr::LoopState>(previous[c]));
@@ -553,7 +566,7 @@ void VerifierNode<Pose>::PublishDecisions(
     msg.decisions.push_back(d);
   }
   decision_pub_.publish(msg);
-  published_candidates_ = verifier_.num_candidates();
+  published_candidates_ = verifier_->num_candidates();
 }
 
 template <class Pose>
@@ -607,14 +620,14 @@ void VerifierNode<Pose>::PublishMarkers() {
     odometry.points.push_back(PointOf(ToRos(p)));
     poses.points.push_back(PointOf(ToRos(p)));
   }
-  const auto& graph = verifier_.graph();
-  for (int c = 0; c < verifier_.num_candidates(); ++c) {
-    const int loop = verifier_.loop_of(c);
+  const auto& graph = verifier_->graph();
+  for (int c = 0; c < verifier_->num_candidates(); ++c) {
+    const int loop = verifier_->loop_of(c);
     if (loop < 0) continue;
     const auto& e = graph.loops()[loop];
-    auto& list = verifier_.state(c) == rrr::LoopState::kAccepted   ? accepted
-                 : verifier_.state(c) == rrr::LoopState::kRejected ? rejected
-                                                                   : pending;
+    auto& list = verifier_->state(c) == rrr::LoopState::kAccepted   ? accepted
+                 : verifier_->state(c) == rrr::LoopState::kRejected ? rejected
+                                                                    : pending;
     list.points.push_back(PointOf(ToRos(map_[e.from])));
     list.points.push_back(PointOf(ToRos(map_[e.to])));
   }
@@ -631,7 +644,7 @@ void VerifierNode<Pose>::PublishAcceptedGraph() {
   rrr_slam::AcceptedGraph msg;
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = options_.map_frame;
-  const auto& graph = verifier_.graph();
+  const auto& graph = verifier_->graph();
   msg.ids = graph.ids();
   for (const Pose& p : map_) msg.poses.push_back(ToRos(p));
   for (const auto& e : graph.odometry())

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "node_options.h"
-#include "rrr/rrr/incremental_verifier.h"
+#include "rrr/rrr/online_verifier.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
@@ -25,7 +25,8 @@
 
 namespace rrr_ros {
 
-// The adapter between ROS and rrr::IncrementalVerifier. Callbacks only queue
+// The adapter between ROS and an rrr::OnlineVerifier (the map procedure's
+// MapVerifier or the published IncrementalVerifier). Callbacks only queue
 // their input; one worker thread owns the verifier and its solver, takes the
 // queue in batches (so it catches up when inputs come faster than it judges),
 // and publishes. Services that need the verifier are queued as well, so they
@@ -97,7 +98,7 @@ class VerifierNode {
   std::atomic<uint32_t> max_queue_length_{0};
 
   // Worker state (touched only by the worker).
-  rrr::IncrementalVerifier<Pose> verifier_;
+  std::unique_ptr<rrr::OnlineVerifier<Pose>> verifier_;  // of the procedure
   std::vector<ros::Time> keyframe_stamps_;
   std::vector<Pose> keyframe_odom_;  // odometry pose of each keyframe
   std::vector<Pose> map_;            // corrected pose of each keyframe

@@ -19,7 +19,7 @@ namespace {
 
 struct VerifyArgs {
   std::string input, output, report;
-  std::string procedure = "published";
+  std::string procedure = "map";
   RrrOptions options;
 };
 

@@ -92,8 +92,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // The noise scale s of the gates for a decision at pose index `pose`
   // (RrrOptions::noise_scale if set, else noise_margin times the estimate).
   double NoiseScaleAt(int pose) const;
-  // The estimate from every loop so far ("none" before the first loop).
-  const NoiseScaleEstimate& noise_scale_estimate() const { return scale_; }
+  double noise_scale() const override;
+  std::string noise_scale_source() const override;
 
  private:
   enum class Status { kPending, kRejected, kAccepted, kSetAside };

@@ -4,6 +4,7 @@
 #define RRR_RRR_ONLINE_VERIFIER_H_
 
 #include <functional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -54,6 +55,10 @@ class OnlineVerifier {
   // loops, optimized.
   virtual std::vector<Pose> Map() = 0;
   virtual int num_clusters() const = 0;
+  // The noise scale s the gates use now (1: the information matrices as
+  // given), and where it comes from ("given", "set", "loops", "clusters").
+  virtual double noise_scale() const { return 1.0; }
+  virtual std::string noise_scale_source() const { return "given"; }
   // The candidate's cluster, or -1 while it waits for a pose or is not
   // clustered yet.
   int cluster_of(int candidate) const;
@@ -118,8 +123,8 @@ template <class Pose>
 std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
     int update_every = 1,
-    const std::function<void(const std::vector<DecisionChange>&)>&
-        on_changes = nullptr);
+    const std::function<void(const std::vector<DecisionChange>&)>& on_changes =
+        nullptr);
 
 }  // namespace rrr
 

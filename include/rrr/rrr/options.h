@@ -22,7 +22,7 @@ const char* ToString(Procedure procedure);
 bool ParseProcedure(const std::string& name, Procedure* procedure);
 
 struct RrrOptions {
-  Procedure procedure = Procedure::kPublished;
+  Procedure procedure = Procedure::kMap;
   // t: loops whose ends are closer than this many poses may share a cluster.
   // 10 suits keyframe graphs; 50 suits Bicocca 25b (5 Hz odometry, 1 Hz loops).
   int cluster_window = 10;

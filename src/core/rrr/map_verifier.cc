@@ -36,6 +36,16 @@ double MapVerifier<Pose>::NoiseScaleAt(int pose) const {
 }
 
 template <class Pose>
+double MapVerifier<Pose>::noise_scale() const {
+  return NoiseScaleAt(this->graph().num_poses() - 1);
+}
+
+template <class Pose>
+std::string MapVerifier<Pose>::noise_scale_source() const {
+  return options_.noise_scale > 0.0 ? "set" : scale_.Source();
+}
+
+template <class Pose>
 double MapVerifier<Pose>::Significant() const {
   return NoiseScaleAt(decision_pose_) * Pose::kDof;
 }

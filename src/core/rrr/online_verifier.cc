@@ -129,8 +129,7 @@ template <class Pose>
 std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
     int update_every,
-    const std::function<void(const std::vector<DecisionChange>&)>&
-        on_changes) {
+    const std::function<void(const std::vector<DecisionChange>&)>& on_changes) {
   const OdometryChain<Pose> chain = ChainOf(graph);
   std::vector<std::vector<int>> ending_at(graph.num_poses());
   for (size_t k = 0; k < graph.loops().size(); ++k) {
