@@ -5,7 +5,7 @@ and the metric rule, ATE, and time. Prints a table and draws the paper-style
 plots (precision, recall and ATE against the level; the trajectory at one
 level with its accepted and rejected loops) as PNG.
 
-    bench/bicocca_sweep.py [--repeat 5] [--span-gate] [--threads N] [--out DIR] [--levels 0.150 ...]
+    bench/bicocca_sweep.py [--repeat 5] [--procedure map|published] [--span-gate] [--threads N] [--out DIR] [--levels 0.150 ...]
 """
 import argparse
 import pathlib
@@ -32,8 +32,7 @@ def main():
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "bicocca"))
     parser.add_argument("--levels", nargs="*", help="levels to run (default: all 41)")
     parser.add_argument("--plot-level", default="0.150", help="level of the trajectory plot")
-    parser.add_argument("--span-gate", action="store_true", help="pass --span-gate to rrr verify")
-    parser.add_argument("--threads", type=int, help="pass --threads to rrr verify (default: rrr's, every core)")
+    common.add_verify_arguments(parser)
     args = parser.parse_args()
     common.require_rrr()
     data = common.datasets_dir() / "bicocca25b"
@@ -93,7 +92,8 @@ def main():
     far = [r["level"] for r in rows if r["ate"] > 1.1 * r["ate_correct"]]
     print(f"levels with precision < 1: {imprecise or 'none'}; recall below the reference: "
           f"{worse or 'none'}; ATE more than 10 % above the correct-candidates ATE: {far or 'none'}")
-    plot(rows, out, data, args.plot_level, "rrr_slam --span-gate" if args.span_gate else "rrr_slam")
+    label = f"rrr_slam, {args.procedure} procedure" + (", span gate" if args.span_gate else "")
+    plot(rows, out, data, args.plot_level, label)
 
 
 def align_to_ground_truth(poses, gt_rows, timestamps_path):

@@ -6,6 +6,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 RRR = ROOT / "_build" / "devel" / "lib" / "rrr_slam" / "rrr"
@@ -30,12 +31,22 @@ def run(*args):
     return run_measured(*args)[0]
 
 
-def run_measured(*args):
+def run_measured(*args, timeout=None):
     """Runs rrr with `args`; returns (stdout, peak resident memory in MB of
-    that process), exits on failure."""
+    that process), exits on failure; raises subprocess.TimeoutExpired (the
+    process killed) after `timeout` seconds if given."""
     with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         process = subprocess.Popen([str(RRR), *map(str, args)], stdout=out, stderr=err)
-        _, status, usage = os.wait4(process.pid, 0)
+        start = time.time()
+        while True:
+            pid, status, usage = os.wait4(process.pid, os.WNOHANG if timeout else 0)
+            if pid:
+                break
+            if time.time() - start > timeout:
+                process.kill()
+                os.wait4(process.pid, 0)
+                raise subprocess.TimeoutExpired([str(RRR), *map(str, args)], timeout)
+            time.sleep(0.2)
         out.seek(0)
         err.seek(0)
         stdout, stderr = out.read().decode(), err.read().decode()
@@ -65,11 +76,31 @@ def verify(graph, window, out_dir, repeat=1, extra=()):
     return result, statistics.median(seconds), out_map
 
 
+def add_verify_arguments(parser):
+    """The rrr verify options every benchmark script passes on."""
+    parser.add_argument("--procedure", default="map", choices=["map", "published"],
+                        help="pass --procedure to rrr verify")
+    parser.add_argument("--span-gate", action="store_true",
+                        help="pass --span-gate to rrr verify (published procedure)")
+    parser.add_argument("--threads", type=int,
+                        help="pass --threads to rrr verify (default: rrr's, every core)")
+    parser.add_argument("--noise-margin", type=float,
+                        help="pass --noise-margin to rrr verify (map procedure)")
+    parser.add_argument("--noise-scale", type=float,
+                        help="pass --noise-scale to rrr verify (map procedure; 0 estimates it)")
+
+
 def verify_flags(args):
-    """rrr verify flags for a script's --span-gate and --threads."""
-    flags = ["--span-gate"] if args.span_gate else []
+    """rrr verify flags for a script's add_verify_arguments options."""
+    flags = ["--procedure", args.procedure]
+    if args.span_gate:
+        flags.append("--span-gate")
     if args.threads:
         flags += ["--threads", args.threads]
+    if args.noise_margin is not None:
+        flags += ["--noise-margin", args.noise_margin]
+    if args.noise_scale is not None:
+        flags += ["--noise-scale", args.noise_scale]
     return flags
 
 
@@ -98,3 +129,63 @@ def write_with_loops(src, dst, wanted):
     with open(dst, "w") as f:
         f.writelines(keep)
         f.writelines(line for key, line in loops if key in wanted)
+
+
+def ros_env(port):
+    """The environment of the package's devel space with a master on `port`."""
+    env = dict(os.environ)
+    env.update(ROS_MASTER_URI=f"http://localhost:{port}", ROS_HOSTNAME="localhost",
+               ROS_HOME=env.get("ROS_HOME", "/tmp/rrr_ros_home"),
+               PATH="/usr/bin:" + env.get("PATH", ""))
+    setup = ROOT / "_build" / "devel" / "setup.bash"
+    out = subprocess.run(["bash", "-c", f"source {setup} && env -0"], env=env,
+                         capture_output=True, text=True, check=True).stdout
+    return dict(line.split("=", 1) for line in out.split("\0") if "=" in line)
+
+
+def service(env, name, request="{}"):
+    """Calls a ROS service; returns its response fields as strings."""
+    out = subprocess.run(["rosservice", "call", name, request], env=env,
+                         capture_output=True, text=True, timeout=600).stdout
+    values = {}
+    for line in out.splitlines():
+        if ":" in line:
+            key, value = line.split(":", 1)
+            values[key.strip()] = value.strip().strip('"')
+    return values
+
+
+def graph_size(path):
+    """{"poses": vertices, "candidates": loop edges} of g2o file `path`."""
+    keep, loops = loop_lines(path)
+    poses = sum(1 for line in keep if line.startswith("VERTEX"))
+    return {"poses": poses, "candidates": len(loops)}
+
+
+def spoiled_sets(args, out):
+    """Makes every spoiled set of args.datasets × kinds × outliers × seeds
+    (rrr spoil into OUT/NAME_KIND_N_SEED/) and yields a dict with its name,
+    kind, outliers, seed, folder, spoiled file, list of false loops and the
+    optimum of the dataset without false loops. Missing datasets are named
+    and skipped."""
+    data = datasets_dir() / "synthetic"
+    for name in args.datasets:
+        clean = data / f"{name}.g2o"
+        if not clean.exists():
+            print(f"{name}: {clean} not found, skipped", flush=True)
+            continue
+        optimum = out / f"{name}_optimum.g2o"
+        if not optimum.exists():
+            run("optimize", clean, "--output", optimum)
+        for kind in args.kinds:
+            for n in args.outliers:
+                for seed in args.seeds:
+                    folder = out / f"{name}_{kind}_{n}_{seed}"
+                    folder.mkdir(exist_ok=True)
+                    spoiled, false_list = folder / "spoiled.g2o", folder / "false.txt"
+                    extra = {"random": [], "local": ["--local"],
+                             "grouped": ["--group", args.group]}[kind]
+                    run("spoil", clean, "--outliers", n, "--seed", seed, *extra,
+                        "--output", spoiled, "--truth", false_list)
+                    yield dict(name=name, kind=kind, outliers=n, seed=seed, folder=folder,
+                               spoiled=spoiled, false_list=false_list, optimum=optimum)

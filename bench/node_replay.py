@@ -8,35 +8,12 @@ loops equal rrr verify's on the same file.
     bench/node_replay.py --g2o FILE --window 10 [--rate 10]
 """
 import argparse
-import os
 import pathlib
 import subprocess
 import sys
 import time
 
 import common
-
-
-def ros_env(port):
-    env = dict(os.environ)
-    env.update(ROS_MASTER_URI=f"http://localhost:{port}", ROS_HOSTNAME="localhost",
-               ROS_HOME=env.get("ROS_HOME", "/tmp/rrr_ros_home"),
-               PATH="/usr/bin:" + env.get("PATH", ""))
-    setup = common.ROOT / "_build" / "devel" / "setup.bash"
-    out = subprocess.run(["bash", "-c", f"source {setup} && env -0"], env=env,
-                         capture_output=True, text=True, check=True).stdout
-    return dict(line.split("=", 1) for line in out.split("\0") if "=" in line)
-
-
-def service(env, name, request="{}"):
-    out = subprocess.run(["rosservice", "call", name, request], env=env,
-                         capture_output=True, text=True, timeout=600).stdout
-    values = {}
-    for line in out.splitlines():
-        if ":" in line:
-            key, value = line.split(":", 1)
-            values[key.strip()] = value.strip().strip('"')
-    return values
 
 
 def main():
@@ -65,7 +42,7 @@ def main():
     report, _, _ = common.verify(g2o, args.window, out, 1, extra)
     expected = {tuple(p) for p in report["accepted"]}
 
-    env = ros_env(args.port)
+    env = common.ros_env(args.port)
     launch = subprocess.Popen(
         ["roslaunch", "-p", str(args.port), "rrr_slam", "replay.launch", f"bag:={bag}",
          f"rate:={args.rate}", f"cluster_window:={args.window}",
@@ -75,18 +52,16 @@ def main():
         start = time.time()
         while True:
             time.sleep(2.0)
-            status = service(env, "/rrr_node/get_status")
-            if (status.get("odometry_received") == str(report["poses"]) and
-                    status.get("loop_closures_received") == str(report["candidates"]) and
-                    status.get("queue_length") == "0"):
+            status = common.service(env, "/rrr_node/get_status")
+            if status.get("inputs_processed") == str(report["poses"] + report["candidates"]):
                 break
             if time.time() - start > 3600 or launch.poll() is not None:
                 sys.exit(f"the replay did not complete: {status}")
-        status = service(env, "/rrr_node/get_status")
-        service(env, "/rrr_node/finish")
+        status = common.service(env, "/rrr_node/get_status")
+        common.service(env, "/rrr_node/finish")
         saved = out / "node_map.g2o"
-        service(env, "/rrr_node/save_graph", f"{{path: '{saved}', with_candidates: false}}")
-        final = service(env, "/rrr_node/get_status")
+        common.service(env, "/rrr_node/save_graph", f"{{path: '{saved}', with_candidates: false}}")
+        final = common.service(env, "/rrr_node/get_status")
     finally:
         launch.terminate()
         launch.wait()

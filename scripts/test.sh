@@ -19,4 +19,22 @@ total=$(count '<testcase ')
 failed=$(count '<(failure|error)[ >]')
 skipped=$(count '<skipped')
 echo "tests: $((total - failed - skipped)) passed, $failed failed, $skipped skipped"
+# Name what was skipped and why (e.g. the datasets are not there).
+/usr/bin/python3 - _build/test_results <<'PY'
+import glob, sys, xml.etree.ElementTree as ET
+reasons = {}
+for path in glob.glob(sys.argv[1] + "/*/*.xml"):
+    for case in ET.parse(path).iter("testcase"):
+        skipped = case.find("skipped")
+        if skipped is not None:
+            why = (skipped.get("message") or skipped.text or "").strip().splitlines()
+            reasons.setdefault(why[0] if why else "no reason given", []).append(
+                f"{case.get('classname')}.{case.get('name')}")
+for why, cases in sorted(reasons.items()):
+    print(f"skipped {len(cases)}: {why}")
+    for name in cases[:5]:
+        print(f"  {name}")
+    if len(cases) > 5:
+        print(f"  ... and {len(cases) - 5} more")
+PY
 exit $status

@@ -1,5 +1,9 @@
 // The end of a bag replay through rrr_node equals `rrr verify` on the graph
-// the bag was made from (its report is the first argument).
+// the bag was made from. Arguments: rrr verify's report, the graph, and the
+// style of the bag's odometry covariances ("growing": the node recovers the
+// graph's information, so the report holds the expected decisions;
+// "constant": the node uses its motion rule, which the test applies to the
+// graph before verifying it with the map procedure).
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
@@ -8,12 +12,52 @@
 #include <set>
 
 #include "ros_test_helpers.h"
+#include "rrr/graph/odometry_chain.h"
+#include "rrr/graph/odometry_noise.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/map_verifier.h"
 #include "rrr_slam/Decisions.h"
-#include "rrr_slam/Finish.h"
 
 namespace {
 
-std::string g_report;
+std::string g_report, g_graph, g_style;
+using Pairs = std::set<std::pair<int64_t, int64_t>>;
+
+// The map procedure's decisions on the graph with every odometry edge's
+// information replaced by the node's motion rule (its parameters read from
+// the node's namespace).
+Pairs DecisionsWithTheMotionRule() {
+  auto graph = std::get<rrr::PoseGraph2>(rrr::ReadG2o(g_graph).graph);
+  std::vector<double> per_unit;
+  double min_motion = 0.0;
+  int window = 0;
+  EXPECT_TRUE(ros::param::get("/rrr_node/odometry/information", per_unit));
+  EXPECT_TRUE(ros::param::get("/rrr_node/odometry/min_motion", min_motion));
+  EXPECT_TRUE(ros::param::get("/rrr_node/cluster_window", window));
+  rrr::Pose2::Jacobian information = rrr::Pose2::Jacobian::Zero();
+  for (int k = 0; k < 3; ++k) information(k, k) = per_unit.at(k);
+  const rrr::OdometryNoiseModel<rrr::Pose2> model(information, min_motion);
+  rrr::PoseGraph2 reweighed;
+  for (int k = 0; k < graph.num_poses(); ++k) {
+    reweighed.AddPose(graph.ids()[k], graph.estimates()[k]);
+  }
+  const rrr::OdometryChain<rrr::Pose2> chain = rrr::ChainOf(graph);
+  for (int k = 1; k < graph.num_poses(); ++k) {
+    rrr::Constraint<rrr::Pose2> step = chain.Between(k - 1, k);
+    step.information = model.FromMotion(step.measurement);
+    reweighed.AddEdge(step);
+  }
+  for (const auto& loop : graph.loops()) reweighed.AddEdge(loop);
+  rrr::RrrOptions options;
+  options.cluster_window = window;
+  const rrr::Verdict verdict = rrr::VerifyWithMap(reweighed, options);
+  Pairs out;
+  for (const int k : verdict.accepted) {
+    const auto& l = reweighed.loops()[k];
+    out.insert({reweighed.ids()[l.from], reweighed.ids()[l.to]});
+  }
+  return out;
+}
 
 TEST(RrrNode, ReplayEndsWithTheBatchDecisions) {
   std::ifstream in(g_report);
@@ -21,9 +65,13 @@ TEST(RrrNode, ReplayEndsWithTheBatchDecisions) {
   const nlohmann::json report = nlohmann::json::parse(in);
   const auto poses = report["poses"].get<uint64_t>();
   const auto candidates = report["candidates"].get<uint64_t>();
-  std::set<std::pair<int64_t, int64_t>> expected;
-  for (const auto& p : report["accepted"]) {
-    expected.insert({p[0].get<int64_t>(), p[1].get<int64_t>()});
+  Pairs expected;
+  if (g_style == "constant") {
+    expected = DecisionsWithTheMotionRule();
+  } else {
+    for (const auto& p : report["accepted"]) {
+      expected.insert({p[0].get<int64_t>(), p[1].get<int64_t>()});
+    }
   }
 
   ros::NodeHandle nh;
@@ -34,20 +82,12 @@ TEST(RrrNode, ReplayEndsWithTheBatchDecisions) {
   ASSERT_TRUE(rrr_test::WaitFor(
       [&] {
         const auto s = rrr_test::Status();
-        return s.odometry_received == poses &&
-               s.loop_closures_received == candidates && s.queue_length == 0;
+        return s.inputs_processed == poses + candidates;
       },
       150.0))
       << "the replay did not reach the node in full";
-  rrr_slam::Finish finish;
-  ASSERT_TRUE(ros::service::call("/rrr_node/finish", finish));
   // The message published by finish: every candidate, none pending.
-  ASSERT_TRUE(rrr_test::WaitFor(
-      [&] {
-        return decisions && decisions->pending == 0 &&
-               decisions->decisions.size() == candidates;
-      },
-      30.0));
+  ASSERT_TRUE(rrr_test::FinishAndWait(&decisions, candidates));
   std::set<std::pair<int64_t, int64_t>> accepted;
   for (const auto& d : decisions->decisions) {
     if (d.state == rrr_slam::LoopDecision::ACCEPTED)
@@ -58,6 +98,13 @@ TEST(RrrNode, ReplayEndsWithTheBatchDecisions) {
   const auto status = rrr_test::Status();
   EXPECT_EQ(status.inputs_dropped, 0u);
   EXPECT_EQ(status.invalid_messages, 0u);
+  // Every odometry edge took the rule its style calls for.
+  const uint64_t edges = poses - 1;
+  if (g_style == "constant") {
+    EXPECT_EQ(status.odometry_information_from_motion, edges);
+  } else {
+    EXPECT_EQ(status.odometry_information_from_covariance, edges);
+  }
 }
 
 }  // namespace
@@ -65,7 +112,11 @@ TEST(RrrNode, ReplayEndsWithTheBatchDecisions) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "replay_test");
-  if (argc > 1) g_report = argv[1];
+  if (argc > 3) {
+    g_report = argv[1];
+    g_graph = argv[2];
+    g_style = argv[3];
+  }
   ros::NodeHandle nh;
   return RUN_ALL_TESTS();
 }

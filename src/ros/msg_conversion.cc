@@ -147,4 +147,16 @@ template boost::array<double, 36> CovarianceFromInformation<rrr::Pose2>(
 template boost::array<double, 36> CovarianceFromInformation<rrr::Pose3>(
     const rrr::Constraint<rrr::Pose3>::Information&);
 
+rrr::OdometryCovariance FromRos(const boost::array<double, 36>& covariance) {
+  return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(
+      covariance.data());
+}
+
+boost::array<double, 36> ToRos(const rrr::OdometryCovariance& covariance) {
+  boost::array<double, 36> out{};
+  Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(out.data()) =
+      covariance;
+  return out;
+}
+
 }  // namespace rrr_ros

@@ -10,6 +10,7 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/odometry_noise.h"
 #include "rrr/graph/pose_graph.h"
 
 namespace rrr_ros {
@@ -36,6 +37,10 @@ bool InformationFromCovariance(const boost::array<double, 36>& covariance,
 template <class Pose>
 boost::array<double, 36> CovarianceFromInformation(
     const typename rrr::Constraint<Pose>::Information& information);
+
+// A message's 6 × 6 pose covariance, row-major as geometry_msgs carries it.
+rrr::OdometryCovariance FromRos(const boost::array<double, 36>& covariance);
+boost::array<double, 36> ToRos(const rrr::OdometryCovariance& covariance);
 
 }  // namespace rrr_ros
 

@@ -49,10 +49,21 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
       Bad(nh, "odometry/information", "values must be positive and finite");
     }
   }
+  nh.param("odometry/min_motion", o.odometry_min_motion, o.odometry_min_motion);
+  if (!(o.odometry_min_motion > 0 && std::isfinite(o.odometry_min_motion))) {
+    Bad(nh, "odometry/min_motion", "must be positive and finite");
+  }
   nh.param("stamp_tolerance", o.stamp_tolerance, o.stamp_tolerance);
   if (!(o.stamp_tolerance >= 0)) Bad(nh, "stamp_tolerance", "must be >= 0");
   nh.param("tf_period", o.tf_period, o.tf_period);
   if (!(o.tf_period > 0)) Bad(nh, "tf_period", "must be > 0");
+  int max_queue = static_cast<int>(o.max_queue_length);
+  nh.param("max_queue_length", max_queue, max_queue);
+  if (max_queue < 1) Bad(nh, "max_queue_length", "must be at least 1");
+  o.max_queue_length = static_cast<size_t>(max_queue);
+  nh.param("max_future_keyframes", o.rrr.max_future_poses,
+           o.rrr.max_future_poses);
+  nh.param("max_waiting", o.rrr.max_waiting, o.rrr.max_waiting);
   nh.param("cluster_window", o.rrr.cluster_window, o.rrr.cluster_window);
   nh.param("iterations", o.rrr.iterations, o.rrr.iterations);
   nh.param("alpha", o.rrr.alpha, o.rrr.alpha);
@@ -64,6 +75,7 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
     Bad(nh, "procedure",
         "must be 'map' or 'published', got '" + procedure + "'");
   }
+  nh.param("database", o.database, o.database);
   nh.param("noise_scale", o.rrr.noise_scale, o.rrr.noise_scale);
   nh.param("noise_margin", o.rrr.noise_margin, o.rrr.noise_margin);
   nh.param("map_radius", o.rrr.map_radius, o.rrr.map_radius);

@@ -20,15 +20,24 @@ struct NodeOptions {
   // one (0 and 0: every odometry message).
   double keyframe_translation = 0.0;  // m
   double keyframe_rotation = 0.0;     // rad
-  // Take an odometry message's pose covariance as the covariance of the
-  // motion since the previous keyframe when it is valid (as `rrr to-bag`
-  // writes it); otherwise, or when false, use `odometry_information`.
+  // An odometry edge's information (rrr::OdometryNoiseModel): from the
+  // change of the messages' pose covariance between the keyframes when it
+  // is positive definite and this is true; otherwise from
+  // `odometry_information` (diagonal, x y yaw or x y z rx ry rz: of one metre
+  // or radian of motion) scaled by the metres plus radians travelled, at
+  // least `odometry_min_motion`.
   bool use_odometry_covariance = true;
-  // Diagonal information of an odometry edge (x y yaw, or x y z rx ry rz).
   std::vector<double> odometry_information;
+  double odometry_min_motion = 0.05;
   // A loop named by stamps takes the keyframes nearest in time within this.
+  // The session database (rrr::SessionStore): every input and decision is
+  // recorded there, and a node started on an existing one resumes it.
+  // Empty: no database.
+  std::string database;
   double stamp_tolerance = 0.1;  // s
   double tf_period = 0.1;        // s; map -> odom is re-broadcast this often
+  // Inputs that may wait for the worker; more are refused and counted.
+  size_t max_queue_length = 100000;
   rrr::RrrOptions rrr;
 
   // Reads the private parameters of `nh`; throws std::invalid_argument naming

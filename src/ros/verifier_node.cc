@@ -61,6 +61,26 @@ std::string WrongFrame(const std::string& frame, const std::string& name,
   return "frame '" + frame + "' is not the " + role + " frame '" + name + "'";
 }
 
+// The q-quantile of `values` (reordered), 0 if empty.
+double Quantile(std::vector<double>* values, double q) {
+  if (values->empty()) return 0.0;
+  const auto k = static_cast<size_t>(q * (values->size() - 1));
+  std::nth_element(values->begin(), values->begin() + k, values->end());
+  return (*values)[k];
+}
+
+// The information of one metre or radian of motion (odometry/information).
+template <class Pose>
+typename rrr::Constraint<Pose>::Information PerUnitInformation(
+    const NodeOptions& options) {
+  typename rrr::Constraint<Pose>::Information information;
+  information.setZero();
+  for (int k = 0; k < Pose::kDof; ++k) {
+    information(k, k) = options.odometry_information[k];
+  }
+  return information;
+}
+
 template <class Pose>
 std::unique_ptr<rrr::OnlineVerifier<Pose>> MakeVerifier(
     const rrr::RrrOptions& options) {
@@ -79,7 +99,13 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
     : options_(options),
       nh_(nh),
       private_nh_(private_nh),
-      verifier_(MakeVerifier<Pose>(options.rrr)) {
+      verifier_(MakeVerifier<Pose>(options.rrr)),
+      odometry_noise_(PerUnitInformation<Pose>(options),
+                      options.odometry_min_motion) {
+  status_.procedure = rrr::ToString(options_.rrr.procedure);
+  if (!options_.database.empty()) Resume();
+  status_.noise_scale = verifier_->noise_scale();
+  status_.noise_scale_source = verifier_->noise_scale_source();
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
   marker_pub_ =
@@ -120,25 +146,73 @@ VerifierNode<Pose>::~VerifierNode() {
   worker_.join();
 }
 
+template <class Pose>
+void VerifierNode<Pose>::Resume() {
+  try {
+    store_ = std::make_unique<rrr::SessionStore<Pose>>(
+        options_.database, rrr::ToString(options_.rrr.procedure));
+    const rrr::ResumeSummary summary = store_->Resume(
+        verifier_.get(),
+        [this](rrr::PoseId, const rrr::KeyframeRecord<Pose>& keyframe) {
+          keyframe_stamps_.push_back(ros::Time().fromNSec(keyframe.stamp_ns));
+          keyframe_odom_.push_back(keyframe.odometry_pose);
+          keyframe_covariance_ = keyframe.covariance;
+        });
+    if (summary.differing_decisions > 0) {
+      ROS_WARN(
+          "rrr_node: %d decisions differ from the ones %s recorded "
+          "(were the options changed?)",
+          summary.differing_decisions, options_.database.c_str());
+    }
+    status_.database = options_.database;
+    status_.resumed_keyframes = summary.keyframes;
+    status_.resumed_candidates = summary.candidates;
+    status_.updates = summary.updates;
+    if (summary.keyframes > 0) {
+      resumed_ = true;
+      resumed_until_ = keyframe_stamps_.back();
+      RecomputeMap();
+      last_accepted_ = verifier_->AcceptedLoops();
+    }
+    ROS_INFO(
+        "rrr_node: session %s: resumed %d keyframes, %d candidates, %d "
+        "updates",
+        options_.database.c_str(), summary.keyframes, summary.candidates,
+        summary.updates);
+  } catch (const rrr::SessionError& e) {
+    throw std::invalid_argument(std::string("database: ") + e.what());
+  }
+}
+
 // ---- ROS threads ----------------------------------------------------------
 
 template <class Pose>
 void VerifierNode<Pose>::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
   ++odometry_received_;
-  Enqueue(msg);
+  Enqueue(msg, "odometry message " + std::to_string(msg->header.seq));
 }
 
 template <class Pose>
 void VerifierNode<Pose>::OnLoopClosure(
     const rrr_slam::LoopClosure::ConstPtr& msg) {
   ++loops_received_;
-  Enqueue(msg);
+  Enqueue(msg, "loop closure message " + std::to_string(msg->header.seq));
 }
 
 template <class Pose>
-void VerifierNode<Pose>::Enqueue(Input input) {
+void VerifierNode<Pose>::Enqueue(Input input, const std::string& what) {
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
+    if (!std::holds_alternative<Request>(input) &&
+        queue_.size() >= options_.max_queue_length) {
+      const uint64_t refused = ++inputs_refused_;
+      ROS_WARN_THROTTLE(5.0,
+                        "rrr_node: refused %s: %zu inputs are queued already "
+                        "(max_queue_length; %lu refused so far)",
+                        what.c_str(), queue_.size(),
+                        static_cast<unsigned long>(refused));
+      return;
+    }
     queue_.emplace_back(std::move(input), ros::WallTime::now());
     const auto length = static_cast<uint32_t>(queue_.size());
     if (length > max_queue_length_) max_queue_length_ = length;
@@ -194,23 +268,18 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
 template <class Pose>
 bool VerifierNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
                                      rrr_slam::GetStatus::Response& res) {
-  std::vector<double> latencies;
+  std::vector<double> latencies, updates;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     res = status_;
     latencies = candidate_latencies_;
+    updates = update_seconds_;
   }
-  if (!latencies.empty()) {
-    const auto at = [&latencies](double q) {
-      const auto k = static_cast<size_t>(q * (latencies.size() - 1));
-      std::nth_element(latencies.begin(), latencies.begin() + k,
-                       latencies.end());
-      return latencies[k];
-    };
-    res.candidate_latency_p50 = at(0.50);
-    res.candidate_latency_p99 = at(0.99);
-    res.candidate_latency_max = at(1.0);
-  }
+  res.candidate_latency_p50 = Quantile(&latencies, 0.50);
+  res.candidate_latency_p99 = Quantile(&latencies, 0.99);
+  res.candidate_latency_max = Quantile(&latencies, 1.0);
+  res.update_seconds_p50 = Quantile(&updates, 0.50);
+  res.update_seconds_p99 = Quantile(&updates, 0.99);
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     res.queue_length = static_cast<uint32_t>(queue_.size());
@@ -219,6 +288,7 @@ bool VerifierNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
   res.loop_closures_received = loops_received_;
   res.max_queue_length = max_queue_length_;
   res.inputs_dropped = 0;
+  res.inputs_refused = inputs_refused_;
   return true;
 }
 
@@ -312,8 +382,7 @@ void VerifierNode<Pose>::WorkerLoop() {
       if (std::holds_alternative<rrr_slam::LoopClosure::ConstPtr>(input)) {
         unpublished_arrivals_.push_back(arrival);
       }
-      std::lock_guard<std::mutex> lock(state_mutex_);
-      ++status_.inputs_processed;
+      ++taken_since_update_;
     }
     if (pending_update) UpdateAndPublish(false);
   }
@@ -341,12 +410,21 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   if (!why.empty()) return Invalid(what, why);
   Pose pose;
   if (!FromRos(msg->pose.pose, &pose, &why)) return Invalid(what, why);
+  const rrr::OdometryCovariance covariance = FromRos(msg->pose.covariance);
+  if (resumed_ && msg->header.stamp <= resumed_until_) {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    ++status_.inputs_already_recorded;
+    return;
+  }
   if (!keyframe_stamps_.empty() &&
       msg->header.stamp < keyframe_stamps_.back()) {
     return Invalid(what, "its stamp is older than the last keyframe's");
   }
+  const rrr::KeyframeRecord<Pose> record{
+      static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose, covariance};
   if (keyframe_odom_.empty()) {
     verifier_->AddFirstPose(0, pose);
+    if (store_) store_->RecordFirstKeyframe(0, record);
     map_.push_back(pose);
   } else {
     const Pose motion = keyframe_odom_.back().between(pose);
@@ -357,19 +435,24 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
         motion.angle() <= options_.keyframe_rotation) {
       return;
     }
-    Information information;
-    std::string ignored;
-    if (!options_.use_odometry_covariance ||
-        !InformationFromCovariance<Pose>(msg->pose.covariance, &information,
-                                         &ignored)) {
-      information = Information::Zero();
-      for (int k = 0; k < Pose::kDof; ++k) {
-        information(k, k) = options_.odometry_information[k];
-      }
+    using Source = typename rrr::OdometryNoiseModel<Pose>::Source;
+    Source source;
+    const Information information = odometry_noise_.EdgeInformation(
+        keyframe_odom_.back(), keyframe_covariance_, pose, covariance,
+        options_.use_odometry_covariance, &source);
+    {
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      ++(source == Source::kCovarianceChange
+             ? status_.odometry_information_from_covariance
+             : status_.odometry_information_from_motion);
     }
-    verifier_->AddOdometry(motion, information);
+    const rrr::PoseId id = verifier_->AddOdometry(motion, information);
+    if (store_) {
+      store_->RecordKeyframe(id, record, motion, information);
+    }
     map_.push_back(map_.back() * motion);
   }
+  keyframe_covariance_ = covariance;
   keyframe_odom_.push_back(pose);
   keyframe_stamps_.push_back(msg->header.stamp);
   new_keyframes_ = true;
@@ -410,6 +493,11 @@ void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
   if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
     AddLoopCandidate(*msg, msg->from_id, msg->to_id);
   } else if (msg->reference == rrr_slam::LoopClosure::BY_STAMP) {
+    if (static_cast<int>(stamped_waiting_.size()) >= options_.rrr.max_waiting) {
+      return Skip(what, rrr::CandidateDefect::kWaitingFull,
+                  std::to_string(stamped_waiting_.size()) +
+                      " candidates wait for keyframes by stamp already");
+    }
     stamped_waiting_.push_back(*msg);
     ResolveStampedLoops();
   } else {
@@ -426,9 +514,10 @@ void VerifierNode<Pose>::ResolveStampedLoops() {
     if (from == -2 || to == -2) {
       *keep++ = std::move(msg);
     } else if (from < 0 || to < 0) {
-      Invalid("loop closure message " + std::to_string(msg.header.seq),
-              "no keyframe within " + std::to_string(options_.stamp_tolerance) +
-                  " s of its " + (from < 0 ? "from" : "to") + " stamp");
+      Skip("loop closure message " + std::to_string(msg.header.seq),
+           rrr::CandidateDefect::kUnknownPose,
+           "no keyframe within " + std::to_string(options_.stamp_tolerance) +
+               " s of its " + (from < 0 ? "from" : "to") + " stamp");
     } else {
       AddLoopCandidate(msg, verifier_->graph().ids()[from],
                        verifier_->graph().ids()[to]);
@@ -450,12 +539,53 @@ void VerifierNode<Pose>::AddLoopCandidate(const rrr_slam::LoopClosure& msg,
                                        &information, &why)) {
     return Invalid(what, why);
   }
-  if (from < 0 || to < 0) return Invalid(what, "keyframe ids start at 0");
-  try {
-    verifier_->AddLoop(from, to, z, information);
-  } catch (const std::invalid_argument& e) {
-    return Invalid(what, e.what());
+  if (from < 0 || to < 0) {
+    return Skip(what, rrr::CandidateDefect::kUnknownPose,
+                "keyframe ids start at 0");
   }
+  try {
+    const int number = verifier_->AddLoop(from, to, z, information);
+    if (store_) store_->RecordCandidate(number, from, to, z, information);
+  } catch (const rrr::DegenerateCandidate& e) {
+    Skip(what, e.defect(), e.what());
+  }
+}
+
+template <class Pose>
+void VerifierNode<Pose>::Skip(const std::string& what,
+                              rrr::CandidateDefect defect,
+                              const std::string& why) {
+  uint64_t count;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    switch (defect) {
+      case rrr::CandidateDefect::kSelfLoop:
+        ++status_.skipped_self_loops;
+        break;
+      case rrr::CandidateDefect::kConsecutivePoses:
+        ++status_.skipped_consecutive_poses;
+        break;
+      case rrr::CandidateDefect::kDuplicate:
+        ++status_.skipped_duplicates;
+        break;
+      case rrr::CandidateDefect::kUnknownPose:
+        ++status_.skipped_unknown_poses;
+        break;
+      case rrr::CandidateDefect::kTooFarAhead:
+        ++status_.refused_too_far_ahead;
+        break;
+      case rrr::CandidateDefect::kWaitingFull:
+        ++status_.refused_waiting_full;
+        break;
+    }
+    count = status_.skipped_self_loops + status_.skipped_consecutive_poses +
+            status_.skipped_duplicates + status_.skipped_unknown_poses +
+            status_.refused_too_far_ahead + status_.refused_waiting_full;
+  }
+  ROS_WARN_THROTTLE(
+      5.0, "rrr_node: skipped %s (%s): %s (%lu skipped candidates so far)",
+      what.c_str(), rrr::ToString(defect), why.c_str(),
+      static_cast<unsigned long>(count));
 }
 
 template <class Pose>
@@ -463,6 +593,18 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<rrr::DecisionChange> changes =
       finish ? verifier_->Finish() : verifier_->Update();
+  if (store_) {
+    try {
+      store_->CommitUpdate(finish, changes);
+    } catch (const rrr::SessionError& e) {
+      {
+        std::lock_guard<std::mutex> lock(state_mutex_);
+        ++status_.database_errors;
+      }
+      ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
+                         e.what());
+    }
+  }
   const std::vector<int> accepted = verifier_->AcceptedLoops();
   const bool accepted_changed = accepted != last_accepted_;
   if (accepted_changed || finish) {
@@ -516,11 +658,17 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   status_.waiting =
       verifier_->num_waiting() + static_cast<uint32_t>(stamped_waiting_.size());
   status_.clusters = verifier_->num_clusters();
-  status_.procedure = rrr::ToString(options_.rrr.procedure);
   status_.noise_scale = verifier_->noise_scale();
   status_.noise_scale_source = verifier_->noise_scale_source();
   ++status_.updates;
   status_.last_update_seconds = seconds;
+  status_.inputs_processed += taken_since_update_;
+  taken_since_update_ = 0;
+  update_seconds_.push_back(seconds);
+  status_.recent_max_update_seconds = *std::max_element(
+      update_seconds_.end() -
+          std::min<size_t>(update_seconds_.size(), kRecentUpdates),
+      update_seconds_.end());
   status_.max_update_seconds = std::max(status_.max_update_seconds, seconds);
   const ros::WallTime published = ros::WallTime::now();
   for (const ros::WallTime& arrival : unpublished_arrivals_) {

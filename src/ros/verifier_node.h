@@ -17,7 +17,9 @@
 #include <vector>
 
 #include "node_options.h"
+#include "rrr/graph/odometry_noise.h"
 #include "rrr/rrr/online_verifier.h"
+#include "rrr/session/session_store.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
@@ -48,7 +50,9 @@ class VerifierNode {
   // ROS threads: record and return.
   void OnOdometry(const nav_msgs::Odometry::ConstPtr& msg);
   void OnLoopClosure(const rrr_slam::LoopClosure::ConstPtr& msg);
-  void Enqueue(Input input);
+  // Queues `input` for the worker; a message (`what` names it) is refused,
+  // counted and warned about when max_queue_length inputs wait already.
+  void Enqueue(Input input, const std::string& what = "");
   // Queues `request` for the worker and waits until it has run.
   void RunOnWorker(const Request& request);
   bool OnSaveGraph(rrr_slam::SaveGraph::Request& req,
@@ -78,7 +82,12 @@ class VerifierNode {
   void PublishPath();
   void PublishMarkers();
   void PublishAcceptedGraph();
+  // Rebuilds the verifier and the keyframes from the session database.
+  void Resume();
   void Invalid(const std::string& what, const std::string& why);
+  // Counts a degenerate candidate under its reason and warns (throttled).
+  void Skip(const std::string& what, rrr::CandidateDefect defect,
+            const std::string& why);
 
   const NodeOptions options_;
   ros::NodeHandle nh_, private_nh_;
@@ -96,16 +105,23 @@ class VerifierNode {
   bool stopping_ = false;
   std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
   std::atomic<uint32_t> max_queue_length_{0};
+  std::atomic<uint64_t> inputs_refused_{0};
 
   // Worker state (touched only by the worker).
   std::unique_ptr<rrr::OnlineVerifier<Pose>> verifier_;  // of the procedure
+  std::unique_ptr<rrr::SessionStore<Pose>> store_;       // if a database
+  ros::Time resumed_until_;  // stamp of the last resumed keyframe
+  bool resumed_ = false;
+  const rrr::OdometryNoiseModel<Pose> odometry_noise_;
+  rrr::OdometryCovariance keyframe_covariance_;  // of the last keyframe
   std::vector<ros::Time> keyframe_stamps_;
   std::vector<Pose> keyframe_odom_;  // odometry pose of each keyframe
   std::vector<Pose> map_;            // corrected pose of each keyframe
   std::vector<int> last_accepted_;
   std::vector<rrr_slam::LoopClosure> stamped_waiting_;
   bool new_keyframes_ = false;
-  int published_candidates_ = 0;  // candidates in the last ~decisions
+  uint64_t taken_since_update_ = 0;  // inputs taken in since the last update
+  int published_candidates_ = 0;     // candidates in the last ~decisions
   std::vector<ros::WallTime> unpublished_arrivals_;  // of candidates taken in
   ros::WallTime last_publish_;  // of the path and the markers
   std::thread worker_;
@@ -113,6 +129,8 @@ class VerifierNode {
   // Shared with the ROS threads under `state_mutex_`.
   std::mutex state_mutex_;
   std::vector<double> candidate_latencies_;  // s, percentiles on request
+  std::vector<double> update_seconds_;       // of every update, likewise
+  static constexpr size_t kRecentUpdates = 100;
   geometry_msgs::TransformStamped map_to_odom_;
   bool have_map_to_odom_ = false;
   rrr_slam::GetStatus::Response status_;

@@ -12,6 +12,7 @@ void AddSpoilCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
 void AddEvaluateCommand(CLI::App& app);
 void AddToBagCommand(CLI::App& app);
+void AddExportCommand(CLI::App& app);
 
 }  // namespace rrr
 

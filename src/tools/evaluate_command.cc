@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "output_paths.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/eval/loop_scores.h"
 #include "rrr/eval/trajectory_error.h"
@@ -252,6 +253,10 @@ void AddEvaluateCommand(CLI::App& app) {
     if (!args->labels.empty() && args->level.empty()) {
       throw CLI::ValidationError("evaluate", "--labels needs --level");
     }
+    CheckOutputPaths(
+        {args->report, args->map, args->false_loops, args->labels, args->gt_g2o,
+         args->gt_csv, args->timestamps, args->graph},
+        {args->json});
     Evaluate(*args);
   });
 }

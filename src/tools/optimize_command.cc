@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "graph_file.h"
+#include "output_paths.h"
 #include "rrr/solver/gauss_newton.h"
 
 namespace rrr {
@@ -38,7 +39,8 @@ void AddOptimizeCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", *output, "optimized g2o output")->required();
   cmd->callback([input, output] {
-    const AnyPoseGraph graph = LoadGraph(*input);
+    CheckOutputPaths({*input}, {*output});
+    const AnyPoseGraph graph = LoadGraph(*input).graph;
     std::visit([&](const auto& g) { Optimize(g, *output); }, graph);
   });
 }

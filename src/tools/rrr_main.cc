@@ -20,6 +20,7 @@ int Run(int argc, char** argv) {
   rrr::AddSimulateCommand(app);
   rrr::AddEvaluateCommand(app);
   rrr::AddToBagCommand(app);
+  rrr::AddExportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

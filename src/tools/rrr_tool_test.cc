@@ -1,6 +1,7 @@
 // The rrr program as a user runs it: exit codes, messages and outputs.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -133,6 +134,96 @@ TEST(RrrTool, SpoilAddsAndListsFalseLoops) {
   int loops = 0;
   while (std::getline(list, line)) loops += !line.empty() && line[0] != '#';
   EXPECT_EQ(loops, 25);
+}
+
+// A simulated world's file with degenerate candidates appended: 3 self
+// loops, 2 exact duplicates of its first loop, 2 further edges between
+// consecutive poses and 4 candidates naming poses the file does not have.
+std::string WorldWithDegenerateCandidates() {
+  const std::string world = Tmp("degenerate.g2o");
+  Rrr("simulate --poses 400 --false-loops 0 -o " + world + " -t " +
+      Tmp("degenerate_none.txt") + " --ground-truth " +
+      Tmp("degenerate_gt.g2o"));
+  std::ifstream in(world);
+  std::string line, first_loop;
+  std::stringstream text;
+  while (std::getline(in, line)) {
+    text << line << "\n";
+    std::istringstream f(line);
+    std::string tag;
+    long a = 0, b = 0;
+    f >> tag >> a >> b;
+    if (tag == "EDGE_SE2" && std::labs(a - b) > 1 && first_loop.empty()) {
+      first_loop = line;
+    }
+  }
+  const std::string info = " 100 0 0 100 0 1000\n";
+  for (const int p : {5, 50, 120}) {
+    text << "EDGE_SE2 " << p << " " << p << " 0 0 0" << info;
+  }
+  text << first_loop << "\n" << first_loop << "\n";
+  text << "EDGE_SE2 10 11 1 0 0" << info << "EDGE_SE2 31 30 -1 0 0" << info;
+  for (const int p : {400, 401, 5000, -3}) {
+    text << "EDGE_SE2 7 " << p << " 0 0 0" << info;
+  }
+  std::ofstream(world) << text.str();
+  return world;
+}
+
+TEST(RrrTool, DegenerateCandidatesAreSkippedCountedAndReported) {
+  const std::string world = WorldWithDegenerateCandidates();
+  const std::string report = Tmp("degenerate.json");
+  const Result r = Rrr("verify " + world + " -w 10 -o " +
+                       Tmp("degenerate_out.g2o") + " -r " + report);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("skipped: self_loop"));
+  EXPECT_THAT(r.output, HasSubstr("skipped candidates: consecutive_poses x2, "
+                                  "duplicate x2, self_loop x3, "
+                                  "unknown_pose x4"));
+  const nlohmann::json skipped = ReadJson(report)["skipped_candidates"];
+  EXPECT_EQ(skipped["self_loop"]["count"], 3);
+  EXPECT_EQ(skipped["duplicate"]["count"], 2);
+  EXPECT_EQ(skipped["consecutive_poses"]["count"], 2);
+  EXPECT_EQ(skipped["unknown_pose"]["count"], 4);
+  // Each is listed as [line, i, j].
+  EXPECT_EQ(skipped["self_loop"]["candidates"][0][1], 5);
+  EXPECT_EQ(skipped["self_loop"]["candidates"][0][2], 5);
+
+  // --strict stops at the first, naming the file and line.
+  const Result strict = Rrr("verify " + world + " -w 10 --strict -o " +
+                            Tmp("degenerate_out.g2o") + " -r " + report);
+  EXPECT_EQ(strict.status, 1);
+  EXPECT_THAT(strict.output, HasSubstr(world + ":"));
+  EXPECT_THAT(strict.output, HasSubstr("to itself"));
+}
+
+TEST(RrrTool, NeverWritesOverItsInputOrOneOutputWithAnother) {
+  const std::string input = Tmp("precious.g2o");
+  Rrr("simulate --poses 200 --false-loops 5 -o " + input + " -t " +
+      Tmp("precious_false.txt") + " --ground-truth " + Tmp("precious_gt.g2o"));
+  std::stringstream before;
+  before << std::ifstream(input).rdbuf();
+  ASSERT_FALSE(before.str().empty());
+  for (const std::string& outputs :
+       {" -o " + input + " -r " + input,
+        " -o " + input + " -r " + Tmp("r.json"),
+        " -o " + Tmp("same") + " -r " + Tmp("same"),
+        " -o " + Tmp("x.g2o") + " -r " + Tmp("no/such/folder/r.json")}) {
+    const Result r = Rrr("verify " + input + " -w 10" + outputs);
+    EXPECT_EQ(r.status, 1) << outputs;
+    EXPECT_THAT(r.output, ::testing::AnyOf(HasSubstr("is also an input"),
+                                           HasSubstr("two outputs"),
+                                           HasSubstr("does not exist")))
+        << r.output;
+  }
+  std::stringstream after;
+  after << std::ifstream(input).rdbuf();
+  EXPECT_EQ(after.str(), before.str());
+  // The same file by another name is refused too.
+  const std::string alias = Tmp("alias.g2o");
+  std::remove(alias.c_str());
+  ASSERT_EQ(symlink(input.c_str(), alias.c_str()), 0);
+  EXPECT_EQ(Rrr("optimize " + input + " -o " + alias).status, 1);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "output_paths.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/io/g2o.h"
 #include "rrr/sim/grid_world.h"
@@ -35,6 +36,7 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->callback([=] {
     const std::string problem = options->Validate();
     if (!problem.empty()) throw CLI::ValidationError("simulate", problem);
+    CheckOutputPaths({}, {*output, *truth, *ground_truth});
     const SimulatedWorld world = SimulateGridWorld(*options);
     const auto& g = world.graph;
     WriteG2oFile(g, g.estimates(), AllLoops(g), *output);

@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "graph_file.h"
+#include "output_paths.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/sim/false_loops.h"
 
@@ -60,7 +61,8 @@ void AddSpoilCommand(CLI::App& app) {
   cmd->add_option("-t,--truth", args->truth, "list of the false loops (i j)")
       ->required();
   cmd->callback([args] {
-    AnyPoseGraph graph = LoadGraph(args->input);
+    CheckOutputPaths({args->input}, {args->output, args->truth});
+    AnyPoseGraph graph = LoadGraph(args->input).graph;
     std::visit([&](auto& g) { Spoil(std::move(g), *args); }, graph);
   });
 }

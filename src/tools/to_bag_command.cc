@@ -8,7 +8,10 @@
 #include "../ros/msg_conversion.h"
 #include "commands.h"
 #include "graph_file.h"
+#include "output_paths.h"
 #include "rrr/eval/ground_truth.h"
+#include "rrr/graph/odometry_chain.h"
+#include "rrr/graph/odometry_noise.h"
 #include "rrr/io/input_error.h"
 #include "rrr_slam/LoopClosure.h"
 
@@ -20,7 +23,16 @@ struct ToBagArgs {
   double rate = 5.0;
   std::string odom_topic = "odom", loop_topic = "loop_closures";
   std::string odom_frame = "odom", base_frame = "base_link";
+  std::string covariance = "growing";
 };
+
+// The pose covariance of a constant-covariance driver (diff_drive_controller's
+// pose_covariance_diagonal in its documented configuration).
+OdometryCovariance ConstantDriverCovariance() {
+  OdometryCovariance c = OdometryCovariance::Zero();
+  c.diagonal() << 0.001, 0.001, 1e6, 1e6, 1e6, 1e3;
+  return c;
+}
 
 template <class Pose>
 void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
@@ -57,9 +69,11 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
     const auto& e = graph.loops()[l];
     loops_at[std::max(e.from, e.to)].push_back(static_cast<int>(l));
   }
-  std::vector<const Constraint<Pose>*> step(n, nullptr);
-  for (const auto& e : graph.odometry()) step[std::max(e.from, e.to)] = &e;
+  const OdometryChain<Pose> steps = ChainOf(graph);
   const std::vector<Pose> chain = graph.ComposeOdometry();
+  const bool growing = args.covariance == "growing";
+  OdometryCovariance covariance =
+      growing ? OdometryCovariance::Zero() : ConstantDriverCovariance();
 
   rosbag::Bag bag;
   try {
@@ -76,12 +90,13 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
     odom.header.frame_id = args.odom_frame;
     odom.child_frame_id = args.base_frame;
     odom.pose.pose = rrr_ros::ToRos(chain[k]);
-    // The covariance of the motion since the previous pose (see the node's
-    // odometry/use_covariance parameter).
-    if (step[k]) {
-      odom.pose.covariance =
-          rrr_ros::CovarianceFromInformation<Pose>(step[k]->information);
+    // The pose covariance in the odometry frame: growing by each step's
+    // covariance (what the node recovers exactly), or a driver's constant.
+    if (growing && k > 0) {
+      covariance = OdometryNoiseModel<Pose>::Grow(
+          covariance, chain[k], steps.Between(k - 1, k).information);
     }
+    odom.pose.covariance = rrr_ros::ToRos(covariance);
     bag.write(args.odom_topic, stamp, odom);
     for (const int l : loops_at[k]) {
       const auto& e = graph.loops()[l];
@@ -128,9 +143,18 @@ void AddToBagCommand(CLI::App& app) {
   cmd->add_option("--loop-topic", args->loop_topic)->capture_default_str();
   cmd->add_option("--odom-frame", args->odom_frame)->capture_default_str();
   cmd->add_option("--base-frame", args->base_frame)->capture_default_str();
+  cmd->add_option("--covariance", args->covariance,
+                  "odometry pose covariance: growing (the pose's, in the "
+                  "odometry frame, as robot_localization; the node recovers "
+                  "each edge's information from it) or constant (as "
+                  "diff_drive_controller; the node falls back to "
+                  "odometry/information)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"growing", "constant"}));
   cmd->add_option("-o,--output", args->output, "bag to write")->required();
   cmd->callback([args] {
-    const AnyPoseGraph graph = LoadGraph(args->input);
+    CheckOutputPaths({args->input, args->timestamps}, {args->output});
+    const AnyPoseGraph graph = LoadGraph(args->input).graph;
     std::visit([&](const auto& g) { ToBag(g, *args); }, graph);
   });
 }

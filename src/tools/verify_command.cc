@@ -8,8 +8,12 @@
 
 #include "commands.h"
 #include "graph_file.h"
+#include "output_paths.h"
 #include "progress_bar.h"
 #include "rrr/io/input_error.h"
+#include "rrr/robust/dcs.h"
+#include "rrr/robust/gnc_tls.h"
+#include "rrr/robust/pcm.h"
 #include "rrr/rrr/batch_verifier.h"
 #include "rrr/rrr/map_verifier.h"
 #include "rrr/solver/gauss_newton.h"
@@ -19,7 +23,9 @@ namespace {
 
 struct VerifyArgs {
   std::string input, output, report;
+  bool strict = false;
   std::string procedure = "map";
+  std::string method = "rrr";
   RrrOptions options;
 };
 
@@ -34,14 +40,35 @@ nlohmann::json PairList(const PoseGraph<Pose>& graph,
   return list;
 }
 
+// The skipped candidates by reason: {"self_loop": {"count": n, "candidates":
+// [[line, i, j], ...]}, ...}.
+nlohmann::json SkippedByReason(const std::vector<SkippedCandidate>& skipped) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const SkippedCandidate& s : skipped) {
+    nlohmann::json& entry = out[ToString(s.defect)];
+    if (entry.is_null()) entry = {{"count", 0}, {"candidates", {}}};
+    entry["count"] = entry["count"].get<int>() + 1;
+    entry["candidates"].push_back({s.line, s.from, s.to});
+  }
+  return out;
+}
+
 template <class Pose>
-void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
+void Verify(const PoseGraph<Pose>& graph,
+            const std::vector<SkippedCandidate>& skipped,
+            const VerifyArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   GaussNewton<Pose> solver(graph, args.options.iterations);
   Verdict verdict;
   std::vector<Pose> map;
   MapVerifierStats stats;
-  if (args.options.procedure == Procedure::kMap) {
+  if (args.method == "dcs") {
+    verdict = VerifyWithDcs(graph, DcsOptions(), &map);
+  } else if (args.method == "gnc") {
+    verdict = VerifyWithGncTls(graph, GncTlsOptions(), &map);
+  } else if (args.method == "pcm") {
+    verdict = VerifyWithPcm(graph, PcmOptions(), &map);
+  } else if (args.options.procedure == Procedure::kMap) {
     std::vector<Pose> maintained;
     verdict = VerifyWithMap(graph, args.options, &maintained, &stats);
     map = solver.Optimize(verdict.accepted, {}, nullptr, &maintained);
@@ -62,10 +89,12 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
   report["dimension"] = Pose::kTranslationDim;
   report["poses"] = graph.num_poses();
   report["candidates"] = graph.loops().size();
+  report["skipped_candidates"] = SkippedByReason(skipped);
   report["clusters"] = verdict.clusters.size();
   report["accepted"] = PairList(graph, verdict.accepted);
   report["rejected"] = PairList(graph, verdict.rejected);
   report["seconds"] = seconds;
+  report["method"] = args.method;
   report["options"] = {{"procedure", ToString(args.options.procedure)},
                        {"cluster_window", args.options.cluster_window},
                        {"iterations", args.options.iterations},
@@ -74,7 +103,7 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
                        {"threads", args.options.threads},
                        {"noise_scale", args.options.noise_scale},
                        {"map_radius", args.options.map_radius}};
-  if (args.options.procedure == Procedure::kMap) {
+  if (args.method == "rrr" && args.options.procedure == Procedure::kMap) {
     report["map_procedure"] = {{"intra_solves", stats.intra_solves},
                                {"quick_accepts", stats.quick_accepts},
                                {"trials", stats.trials},
@@ -82,6 +111,8 @@ void Verify(const PoseGraph<Pose>& graph, const VerifyArgs& args) {
                                {"reopened", stats.reopened},
                                {"optimizations", stats.optimizations},
                                {"not_converged", stats.not_converged}};
+    report["noise_scale"] = {{"value", stats.noise_scale},
+                             {"source", stats.noise_scale_source}};
   }
   std::ofstream out(args.report);
   out << report.dump(1) << "\n";
@@ -100,13 +131,21 @@ void AddVerifyCommand(CLI::App& app) {
       "verify",
       "Judge every loop candidate of a g2o file with RRR; write the optimized "
       "graph with only the accepted loops, and a JSON report.");
-  cmd->add_option("input", args->input, "g2o file (2D or 3D)")
+  cmd->add_option("input", args->input,
+                  "g2o file (2D or 3D), or a session database of rrr_node")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-w,--window", args->options.cluster_window,
                   "clustering window t in poses (10 for keyframe graphs, 50 "
                   "for Bicocca 25b)")
       ->required();
+  cmd->add_option("--method", args->method,
+                  "rrr (this package; see --procedure), or for comparison "
+                  "dcs (dynamic covariance scaling, phi 1), gnc (GNC with a "
+                  "truncated least-squares cost, chi-square 0.99) or pcm "
+                  "(pairwise consistency maximization, chi-square 0.99)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rrr", "dcs", "gnc", "pcm"}));
   cmd->add_option("--procedure", args->procedure,
                   "decision procedure: published (RRR as in the paper) or "
                   "map (each cluster judged against a maintained map; see "
@@ -140,6 +179,10 @@ void AddVerifyCommand(CLI::App& app) {
                   "consistency solves run at once; the decisions do not "
                   "depend on it (default: the number of cores)")
       ->capture_default_str();
+  cmd->add_flag("--strict", args->strict,
+                "stop at the first degenerate candidate (a self loop or an "
+                "unknown pose) instead of skipping it; keep duplicates and "
+                "further edges between consecutive poses");
   cmd->add_option("-o,--output", args->output, "optimized g2o output")
       ->required();
   cmd->add_option("-r,--report", args->report, "JSON report output")
@@ -148,8 +191,11 @@ void AddVerifyCommand(CLI::App& app) {
     ParseProcedure(args->procedure, &args->options.procedure);
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
-    const AnyPoseGraph graph = LoadGraph(args->input);
-    std::visit([&](const auto& g) { Verify(g, *args); }, graph);
+    CheckOutputPaths({args->input}, {args->output, args->report});
+    const G2oFile file = LoadGraph(args->input, args->strict);
+    std::visit(
+        [&](const auto& g) { Verify(g, file.skipped_candidates, *args); },
+        file.graph);
   });
 }
 

@@ -32,6 +32,10 @@ class OdometryChain {
   // The edge from pose `i` to pose `j` (0 <= i < j < num_poses()): the
   // composed odometry and the inverse of its compounded covariance.
   Constraint<Pose> Between(int i, int j) const;
+  // The composed odometry from pose `i` to pose `j` (Between's measurement).
+  Pose Relative(int i, int j) const {
+    return composed_[i].between(composed_[j]);
+  }
   // The covariance of Between(i, j)'s measurement.
   Covariance CovarianceBetween(int i, int j) const;
 

@@ -10,6 +10,7 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/candidate_defect.h"
 #include "rrr/graph/pose_graph.h"
 
 namespace rrr {
@@ -18,21 +19,40 @@ using PoseGraph2 = PoseGraph<Pose2>;
 using PoseGraph3 = PoseGraph<Pose3>;
 using AnyPoseGraph = std::variant<PoseGraph2, PoseGraph3>;
 
+// An edge that a place recogniser's output may hold but that is no usable
+// loop candidate, and why.
+struct SkippedCandidate {
+  int line;
+  PoseId from, to;
+  // kConsecutivePoses: a further edge between consecutive poses (the first
+  // is their odometry); kDuplicate: the same pair with the same measurement
+  // and information as an earlier edge; kUnknownPose: a pose the file does
+  // not have.
+  CandidateDefect defect;
+};
+
 // A parsed g2o file. Lines with tags other than VERTEX_SE2, EDGE_SE2,
 // VERTEX_SE3:QUAT, EDGE_SE3:QUAT and FIX are skipped and counted by tag.
 struct G2oFile {
   AnyPoseGraph graph;
   std::map<std::string, int> skipped_tags;
+  // Degenerate candidates left out, in file order (empty when strict).
+  std::vector<SkippedCandidate> skipped_candidates;
 };
 
 // Parses g2o text. Every malformed input (missing or extra fields, a field
-// that is not a finite number, a duplicate vertex, an edge to an unknown
-// vertex, an information matrix that is not positive definite, a zero
-// quaternion, 2D and 3D elements in one file, a file without vertices) throws
-// InputError naming `source`, the line and the problem.
-G2oFile ParseG2o(std::istream& in, const std::string& source);
+// that is not a finite number, a duplicate vertex, an information matrix
+// that is not positive definite, a zero quaternion, 2D and 3D elements in one
+// file, a file without vertices) throws InputError naming `source`, the line
+// and the problem. Degenerate candidates (SkippedCandidate) are left out and
+// listed; with `strict`, an edge from a vertex to itself or to an unknown
+// vertex throws instead, and duplicates and further edges between
+// consecutive poses are kept (RRR judges duplicates, the solver uses every
+// odometry edge).
+G2oFile ParseG2o(std::istream& in, const std::string& source,
+                 bool strict = false);
 // Reads the file at `path`; throws InputError if it cannot be opened.
-G2oFile ReadG2o(const std::string& path);
+G2oFile ReadG2o(const std::string& path, bool strict = false);
 
 // Human-readable summary of skipped tags ("VERTEX_XY x3, ..."), empty if none.
 std::string DescribeSkipped(const std::map<std::string, int>& skipped_tags);

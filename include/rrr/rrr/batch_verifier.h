@@ -20,6 +20,10 @@ struct Verdict {
   std::vector<Cluster> clusters;
 };
 
+// The verdict of per-loop decisions (accepted[k] for loop k), for methods
+// without clusters.
+Verdict VerdictOf(const std::vector<bool>& accepted);
+
 // Called with (clusters judged, clusters in all) as the intra-cluster tests
 // progress.
 using ProgressCallback = std::function<void(int done, int total)>;

@@ -4,6 +4,7 @@
 #define RRR_RRR_MAP_VERIFIER_H_
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rrr/graph/odometry_chain.h"
@@ -19,13 +20,15 @@ namespace rrr {
 
 // Counters of what the procedure did, for reports and benchmarks.
 struct MapVerifierStats {
-  int intra_solves = 0;   // condensed intra-cluster solves
-  int quick_accepts = 0;  // accepted on the map's estimate, no solve
-  int trials = 0;         // local solves against the map
-  int reversals = 0;      // accepted clusters later set aside
-  int reopened = 0;       // set-aside clusters judged again
-  int optimizations = 0;  // whole-map minimizations
-  int not_converged = 0;  // deciding solves stopped by the limit
+  int intra_solves = 0;            // condensed intra-cluster solves
+  int quick_accepts = 0;           // accepted on the map's estimate, no solve
+  int trials = 0;                  // local solves against the map
+  int reversals = 0;               // accepted clusters later set aside
+  int reopened = 0;                // set-aside clusters judged again
+  int optimizations = 0;           // whole-map minimizations
+  int not_converged = 0;           // deciding solves stopped by the limit
+  double noise_scale = 1.0;        // s of the gates at the end
+  std::string noise_scale_source;  // see OnlineVerifier::noise_scale_source
 };
 
 // The "map" procedure (README, "Procedures"; RRR_ALGORITHM.md terms).

@@ -4,11 +4,14 @@
 #define RRR_RRR_ONLINE_VERIFIER_H_
 
 #include <functional>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "rrr/graph/candidate_defect.h"
 #include "rrr/graph/pose_graph.h"
+#include "rrr/rrr/options.h"
 
 namespace rrr {
 
@@ -32,6 +35,9 @@ class OnlineVerifier {
  public:
   using Information = typename Constraint<Pose>::Information;
 
+  // `bounds` (RrrOptions::max_future_poses and max_waiting) limit what may
+  // wait for a pose.
+  explicit OnlineVerifier(const RrrOptions& bounds);
   virtual ~OnlineVerifier() = default;
 
   // Starts the chain at pose `id`. Throws std::logic_error if it has started.
@@ -42,8 +48,12 @@ class OnlineVerifier {
   PoseId AddOdometry(const Pose& z, const Information& information);
   // Adds the candidate z ≈ x_a⁻¹ · x_b and returns its number (0, 1, ... in
   // arrival order). If a pose does not exist yet, the candidate waits for it
-  // and enters the graph when it arrives. Throws std::invalid_argument if
-  // |a - b| < 2 or a pose precedes the first pose (it can never exist).
+  // and enters the graph when it arrives. Throws DegenerateCandidate (and
+  // keeps nothing) for a self loop, consecutive poses, a pose before the
+  // first (it can never exist), the same pair, measurement and information
+  // as an earlier candidate, a pose more than `bounds.max_future_poses` ids
+  // past the newest, or a candidate that would wait while
+  // `bounds.max_waiting` already do (RrrOptions).
   int AddLoop(PoseId a, PoseId b, const Pose& z,
               const Information& information);
 
@@ -105,9 +115,12 @@ class OnlineVerifier {
   // Moves the candidates whose poses exist into the graph.
   void ApplyWaiting();
 
+  int max_future_poses_, max_waiting_;
   PoseGraph<Pose> graph_;
   std::vector<Candidate> candidates_;
-  std::vector<int> waiting_;            // candidate numbers
+  std::vector<int> waiting_;  // candidate numbers
+  // Candidate numbers by their pair of end ids, to find duplicates.
+  std::map<std::pair<PoseId, PoseId>, std::vector<int>> by_pair_;
   std::vector<int> candidate_of_loop_;  // graph loop index -> candidate
   std::vector<int> poses_at_arrival_;   // graph loop index -> poses
   int num_solves_ = 0;

@@ -45,6 +45,12 @@ struct RrrOptions {
   // using only the solves the one-at-a-time procedure would have made.
   int threads = 1;
 
+  // Bounds of the candidates waiting for a pose (OnlineVerifier::AddLoop):
+  // one may name a pose at most `max_future_poses` ids past the newest, and
+  // at most `max_waiting` may wait at once; others are refused.
+  int max_future_poses = 1000;
+  int max_waiting = 10000;
+
   // The map procedure only (MapVerifier).
   // s: every gate compares an error with s·χ²(α, dof). 1 trusts the
   // information matrices as given; 0 estimates s from the data

@@ -16,7 +16,7 @@ struct FalseLoopOptions {
   bool local = false;
   int local_range = 20;
   // Groups of `group` consecutive false loops (i+k, j+k), k = 0..group-1,
-  // which look like a real revisit.
+  // sharing one drawn measurement, which look like a real revisit.
   int group = 1;
   std::uint64_t seed = 1;
 

@@ -34,6 +34,11 @@ class LocalProblem {
   const std::vector<int>& free() const { return free_; }
   const std::vector<const Edge*>& edges() const { return edges_; }
 
+  // Multiplies each edge's information by its weight (in the order of
+  // edges(); every weight 1 until set). Throws std::invalid_argument if the
+  // count differs from the edges'.
+  void SetWeights(std::vector<double> weights);
+
   // One Gauss–Newton step on the free poses of `x` (every pose of the
   // graph). Returns false, leaving `x` unchanged, if the linear system is not
   // positive definite.
@@ -43,7 +48,7 @@ class LocalProblem {
   // error is not taken (and ends the minimization as converged).
   MinimizeResult Minimize(std::vector<Pose>* x,
                           const ConvergenceOptions& options);
-  // Σ rᵀ Ω r over the problem's edges at `x`.
+  // Σ w rᵀ Ω r over the problem's edges at `x` (w: their weights).
   double Chi2(const std::vector<Pose>& x) const;
 
  private:
@@ -56,6 +61,7 @@ class LocalProblem {
   std::vector<int> free_;
   std::vector<int> block_of_pose_;  // -1 for poses held fixed
   std::vector<const Edge*> edges_;
+  std::vector<double> weights_;  // empty: all 1
   std::vector<Slots> slots_;
   std::unique_ptr<BlockCholesky<D>> system_;
 };

@@ -54,7 +54,7 @@ Constraint<Pose> OdometryChain<Pose>::Between(int i, int j) const {
   Constraint<Pose> edge;
   edge.from = i;
   edge.to = j;
-  edge.measurement = composed_[i].between(composed_[j]);
+  edge.measurement = Relative(i, j);
   edge.information = Inverse(CovarianceBetween(i, j));
   edge.information = 0.5 * (edge.information + edge.information.transpose());
   return edge;

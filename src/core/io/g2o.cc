@@ -1,10 +1,12 @@
 #include "rrr/io/g2o.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <optional>
+#include <set>
 
 #include "rrr/io/input_error.h"
 #include "rrr/io/text_fields.h"
@@ -67,11 +69,19 @@ template <class Pose>
 PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
                            const std::vector<PendingEdge>& edges,
                            const std::vector<std::pair<int, PoseId>>& fixed,
-                           const std::string& source) {
+                           const std::string& source, bool strict,
+                           std::vector<SkippedCandidate>* skipped) {
   using Traits = G2oTraits<Pose>;
   constexpr int kDof = Pose::kDof;
   PoseGraph<Pose> graph;
   std::string problem;
+  // Pairs seen so far (ordered as given), with their values, and the lower
+  // pose of each consecutive pair that has its odometry.
+  std::map<std::pair<PoseId, PoseId>, std::vector<const PendingEdge*>> seen;
+  std::set<PoseId> has_odometry;
+  const auto skip = [&](const PendingEdge& e, CandidateDefect defect) {
+    skipped->push_back({e.line, e.from, e.to, defect});
+  };
   for (const auto& [id, v] : vertices) {
     const std::optional<Pose> pose =
         Traits::MakePose(v.values.data(), &problem);
@@ -82,16 +92,39 @@ PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
     typename PoseGraph<Pose>::Edge edge;
     edge.from = graph.IndexOf(e.from);
     edge.to = graph.IndexOf(e.to);
-    for (const PoseId id : {e.from, e.to}) {
-      if (graph.IndexOf(id) < 0) {
-        throw InputError(source, e.line,
-                         "edge refers to unknown vertex " + std::to_string(id));
-      }
-    }
     if (e.from == e.to) {
+      if (!strict) {
+        skip(e, CandidateDefect::kSelfLoop);
+        continue;
+      }
       throw InputError(
           source, e.line,
           "edge connects vertex " + std::to_string(e.from) + " to itself");
+    }
+    if (edge.from < 0 || edge.to < 0) {
+      if (!strict) {
+        skip(e, CandidateDefect::kUnknownPose);
+        continue;
+      }
+      throw InputError(source, e.line,
+                       "edge refers to unknown vertex " +
+                           std::to_string(edge.from < 0 ? e.from : e.to));
+    }
+    if (!strict) {
+      auto& same_pair = seen[{e.from, e.to}];
+      if (std::any_of(same_pair.begin(), same_pair.end(),
+                      [&](const PendingEdge* other) {
+                        return other->values == e.values;
+                      })) {
+        skip(e, CandidateDefect::kDuplicate);
+        continue;
+      }
+      same_pair.push_back(&e);
+      if (graph.IsOdometry(edge.from, edge.to) &&
+          !has_odometry.insert(std::min(e.from, e.to)).second) {
+        skip(e, CandidateDefect::kConsecutivePoses);
+        continue;
+      }
     }
     const std::optional<Pose> z = Traits::MakePose(e.values.data(), &problem);
     if (!z) throw InputError(source, e.line, problem);
@@ -125,7 +158,7 @@ PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
 
 }  // namespace
 
-G2oFile ParseG2o(std::istream& in, const std::string& source) {
+G2oFile ParseG2o(std::istream& in, const std::string& source, bool strict) {
   Dimension dim = Dimension::kUnknown;
   std::map<PoseId, PendingVertex> vertices;
   std::vector<PendingEdge> edges;
@@ -177,18 +210,21 @@ G2oFile ParseG2o(std::istream& in, const std::string& source) {
   if (in.bad()) throw InputError(source, 0, "read error");
   if (vertices.empty()) throw InputError(source, 0, "no vertices");
 
+  std::vector<SkippedCandidate> skipped_candidates;
   G2oFile file{
       dim == Dimension::k3D
-          ? AnyPoseGraph(BuildGraph<Pose3>(vertices, edges, fixed, source))
-          : AnyPoseGraph(BuildGraph<Pose2>(vertices, edges, fixed, source)),
-      skipped};
+          ? AnyPoseGraph(BuildGraph<Pose3>(vertices, edges, fixed, source,
+                                           strict, &skipped_candidates))
+          : AnyPoseGraph(BuildGraph<Pose2>(vertices, edges, fixed, source,
+                                           strict, &skipped_candidates)),
+      skipped, std::move(skipped_candidates)};
   return file;
 }
 
-G2oFile ReadG2o(const std::string& path) {
+G2oFile ReadG2o(const std::string& path, bool strict) {
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "cannot open file");
-  return ParseG2o(in, path);
+  return ParseG2o(in, path, strict);
 }
 
 std::string DescribeSkipped(const std::map<std::string, int>& skipped_tags) {

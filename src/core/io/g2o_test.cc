@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <sstream>
 
 #include "rrr/io/input_error.h"
@@ -14,7 +16,7 @@ using ::testing::HasSubstr;
 
 G2oFile Parse(const std::string& text) {
   std::istringstream in(text);
-  return ParseG2o(in, "test.g2o");
+  return ParseG2o(in, "test.g2o", /*strict=*/true);
 }
 
 // The InputError message of parsing `text`, or "" if it parses.
@@ -94,6 +96,36 @@ TEST(G2o, ReadsFix) {
   const auto g =
       std::get<PoseGraph2>(Parse(std::string(kSquare2D) + "FIX 1\n").graph);
   EXPECT_EQ(g.fixed(), std::vector<int>{1});
+}
+
+TEST(G2o, DegenerateCandidatesAreSkippedAndListed) {
+  std::istringstream in(std::string(kSquare2D) +
+                        "EDGE_SE2 2 2 0 0 0 1 0 0 1 0 1\n"    // self loop
+                        "EDGE_SE2 0 9 0 0 0 1 0 0 1 0 1\n"    // unknown pose
+                        "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"    // odometry again
+                        "EDGE_SE2 0 2 2 0 0 1 0 0 1 0 1\n"    // a candidate
+                        "EDGE_SE2 0 2 2 0 0 1 0 0 1 0 1\n"    // the same again
+                        "EDGE_SE2 0 2 2.1 0 0 1 0 0 1 0 1\n"  // same pair, kept
+                        "EDGE_SE2 1 0 -1 0 0 1 0 0 1 0 1\n");  // consecutive
+  const G2oFile file = ParseG2o(in, "test.g2o");
+  const auto& g = std::get<PoseGraph2>(file.graph);
+  const G2oFile square = Parse(kSquare2D);
+  const auto& plain = std::get<PoseGraph2>(square.graph);
+  EXPECT_EQ(g.odometry().size(), plain.odometry().size());
+  EXPECT_EQ(g.loops().size(), plain.loops().size() + 2);
+  std::vector<std::pair<int, std::string>> skipped;
+  for (const auto& s : file.skipped_candidates) {
+    skipped.emplace_back(s.line, ToString(s.defect));
+  }
+  const int first = static_cast<int>(std::count(
+                        kSquare2D, kSquare2D + std::strlen(kSquare2D), '\n')) +
+                    1;
+  EXPECT_EQ(skipped, (std::vector<std::pair<int, std::string>>{
+                         {first, "self_loop"},
+                         {first + 1, "unknown_pose"},
+                         {first + 2, "consecutive_poses"},
+                         {first + 4, "duplicate"},
+                         {first + 6, "consecutive_poses"}}));
 }
 
 TEST(G2o, ErrorsNameFileLineAndProblem) {

@@ -34,7 +34,7 @@ class CountingSolver : public ConsistencySolver {
 
 template <class Pose>
 IncrementalVerifier<Pose>::IncrementalVerifier(const RrrOptions& options)
-    : options_(options), chi2_(options.alpha) {
+    : OnlineVerifier<Pose>(options), options_(options), chi2_(options.alpha) {
   const std::string problem = options.Validate();
   if (!problem.empty()) throw std::invalid_argument(problem);
 }

@@ -74,15 +74,30 @@ TEST(IncrementalVerifier, CandidatesWaitForTheirPoses) {
   EXPECT_EQ(v.state(c), LoopState::kAccepted);  // it agrees with odometry
 }
 
-TEST(IncrementalVerifier, RejectsCandidatesThatCanNeverExist) {
+// The reason a degenerate candidate was refused, or "kept".
+std::string Refusal(OnlineVerifier<Pose2>* v, PoseId a, PoseId b,
+                    const Pose2& z) {
+  try {
+    v->AddLoop(a, b, z, Pose2::Jacobian::Identity());
+  } catch (const DegenerateCandidate& e) {
+    return ToString(e.defect());
+  }
+  return "kept";
+}
+
+TEST(IncrementalVerifier, RefusesDegenerateCandidatesByReason) {
   RrrOptions options;
   IncrementalVerifier<Pose2> v(options);
-  const Pose2::Jacobian info = Pose2::Jacobian::Identity();
-  EXPECT_THROW(v.AddOdometry(Pose2(), info), std::logic_error);
+  EXPECT_THROW(v.AddOdometry(Pose2(), Pose2::Jacobian::Identity()),
+               std::logic_error);
   v.AddFirstPose(10, Pose2());
-  EXPECT_THROW(v.AddLoop(11, 10, Pose2(), info), std::invalid_argument);
-  EXPECT_THROW(v.AddLoop(3, 20, Pose2(), info), std::invalid_argument);
-  EXPECT_EQ(v.num_candidates(), 0);
+  EXPECT_EQ(Refusal(&v, 12, 12, Pose2()), "self_loop");
+  EXPECT_EQ(Refusal(&v, 11, 10, Pose2()), "consecutive_poses");
+  EXPECT_EQ(Refusal(&v, 3, 20, Pose2()), "unknown_pose");
+  EXPECT_EQ(Refusal(&v, 20, 30, Pose2(1, 0, 0)), "kept");  // waits for 30
+  EXPECT_EQ(Refusal(&v, 20, 30, Pose2(1, 0, 0)), "duplicate");
+  EXPECT_EQ(Refusal(&v, 20, 30, Pose2(1, 0.5, 0)), "kept");  // judged too
+  EXPECT_EQ(v.num_candidates(), 2);
 }
 
 // A level, and whether decisions are reversed in both directions on the way.

@@ -13,7 +13,8 @@ namespace rrr {
 
 template <class Pose>
 MapVerifier<Pose>::MapVerifier(const RrrOptions& options)
-    : options_(options),
+    : OnlineVerifier<Pose>(options),
+      options_(options),
       chi2_(options.alpha),
       clustering_(options.cluster_window),
       scale_(Pose::kDof) {
@@ -417,7 +418,11 @@ Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
         static_cast<int>(k));
   }
   if (map) *map = verifier.Map();
-  if (stats) *stats = verifier.stats();
+  if (stats) {
+    *stats = verifier.stats();
+    stats->noise_scale = verifier.noise_scale();
+    stats->noise_scale_source = verifier.noise_scale_source();
+  }
   return verdict;
 }
 

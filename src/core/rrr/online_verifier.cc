@@ -24,6 +24,11 @@ const char* ToString(LoopState state) {
 }
 
 template <class Pose>
+OnlineVerifier<Pose>::OnlineVerifier(const RrrOptions& bounds)
+    : max_future_poses_(bounds.max_future_poses),
+      max_waiting_(bounds.max_waiting) {}
+
+template <class Pose>
 void OnlineVerifier<Pose>::AddFirstPose(PoseId id, const Pose& pose) {
   if (graph_.num_poses() > 0) throw std::logic_error("the chain has started");
   graph_.AddPose(id, pose);
@@ -47,16 +52,48 @@ PoseId OnlineVerifier<Pose>::AddOdometry(const Pose& z,
 template <class Pose>
 int OnlineVerifier<Pose>::AddLoop(PoseId a, PoseId b, const Pose& z,
                                   const Information& information) {
+  const std::string pair = std::to_string(a) + " -> " + std::to_string(b);
+  if (a == b) {
+    throw DegenerateCandidate(CandidateDefect::kSelfLoop,
+                              "candidate " + pair + " links a pose to itself");
+  }
   if (std::llabs(a - b) < 2) {
-    throw std::invalid_argument("a loop candidate needs |a - b| > 1, got " +
-                                std::to_string(a) + " and " +
-                                std::to_string(b));
+    throw DegenerateCandidate(
+        CandidateDefect::kConsecutivePoses,
+        "candidate " + pair + " links consecutive poses (that is odometry)");
   }
   if (graph_.num_poses() > 0 && std::min(a, b) < graph_.ids().front()) {
-    throw std::invalid_argument("pose " + std::to_string(std::min(a, b)) +
-                                " precedes the first pose " +
-                                std::to_string(graph_.ids().front()));
+    throw DegenerateCandidate(
+        CandidateDefect::kUnknownPose,
+        "candidate " + pair + ": pose " + std::to_string(std::min(a, b)) +
+            " precedes the first pose " + std::to_string(graph_.ids().front()));
   }
+  const PoseId newest = graph_.num_poses() > 0 ? graph_.ids().back() : 0;
+  if (graph_.num_poses() > 0 && std::max(a, b) > newest + max_future_poses_) {
+    throw DegenerateCandidate(
+        CandidateDefect::kTooFarAhead,
+        "candidate " + pair + ": pose " + std::to_string(std::max(a, b)) +
+            " is more than " + std::to_string(max_future_poses_) +
+            " poses past the newest, " + std::to_string(newest));
+  }
+  const bool waits = graph_.IndexOf(a) < 0 || graph_.IndexOf(b) < 0;
+  if (waits && num_waiting() >= max_waiting_) {
+    throw DegenerateCandidate(CandidateDefect::kWaitingFull,
+                              "candidate " + pair + " would wait while " +
+                                  std::to_string(max_waiting_) +
+                                  " candidates already wait");
+  }
+  std::vector<int>& same_pair = by_pair_[{a, b}];
+  for (const int c : same_pair) {
+    const Candidate& other = candidates_[c];
+    if (other.measurement.Log() == z.Log() &&
+        other.information == information) {
+      throw DegenerateCandidate(
+          CandidateDefect::kDuplicate,
+          "candidate " + pair + " repeats candidate " + std::to_string(c));
+    }
+  }
+  same_pair.push_back(num_candidates());
   candidates_.push_back(Candidate{a, b, z, information});
   waiting_.push_back(num_candidates() - 1);
   ApplyWaiting();

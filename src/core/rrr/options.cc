@@ -16,6 +16,14 @@ std::string RrrOptions::Validate() const {
   if (threads < 1) {
     return "threads must be at least 1, got " + std::to_string(threads);
   }
+  if (max_future_poses < 0) {
+    return "max_future_poses must not be negative, got " +
+           std::to_string(max_future_poses);
+  }
+  if (max_waiting < 0) {
+    return "max_waiting must not be negative, got " +
+           std::to_string(max_waiting);
+  }
   if (!(noise_scale >= 0.0)) {
     return "noise_scale must be positive, or 0 to estimate it, got " +
            std::to_string(noise_scale);

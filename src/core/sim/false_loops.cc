@@ -66,14 +66,17 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
     const int i = any(rng);
     const int j = options.local ? i + offset(rng) : any(rng);
     if (j < 0 || j >= last_start || std::abs(i - j) <= 1) continue;
+    // One measurement for the whole group: its links agree with each other
+    // like a real revisit's.
+    const Pose measurement =
+        RandomMeasurement(rng, static_cast<const Pose*>(nullptr));
     for (int k = 0;
          k < options.group && static_cast<int>(added.size()) < options.count;
          ++k) {
       Constraint<Pose> loop;
       loop.from = i + k;
       loop.to = j + k;
-      loop.measurement =
-          RandomMeasurement(rng, static_cast<const Pose*>(nullptr));
+      loop.measurement = measurement;
       loop.information = information;
       graph->AddEdge(loop);
       added.push_back(static_cast<int>(graph->loops().size()) - 1);

@@ -1,5 +1,7 @@
 #include "rrr/solver/local_problem.h"
 
+#include <stdexcept>
+
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/solver/block_cholesky.h"
@@ -34,6 +36,14 @@ template <class Pose>
 LocalProblem<Pose>::~LocalProblem() = default;
 
 template <class Pose>
+void LocalProblem<Pose>::SetWeights(std::vector<double> weights) {
+  if (weights.size() != edges_.size()) {
+    throw std::invalid_argument("one weight per edge is needed");
+  }
+  weights_ = std::move(weights);
+}
+
+template <class Pose>
 bool LocalProblem<Pose>::Step(std::vector<Pose>* x) {
   if (free_.empty()) return true;
   system_->SetZero();
@@ -44,8 +54,9 @@ bool LocalProblem<Pose>::Step(std::vector<Pose>* x) {
     typename Pose::Jacobian ji, jj;
     const typename Pose::Tangent r = EdgeResidualAndJacobians(
         edge.measurement, (*x)[edge.from], (*x)[edge.to], &ji, &jj);
-    const typename Pose::Jacobian wi = ji.transpose() * edge.information;
-    const typename Pose::Jacobian wj = jj.transpose() * edge.information;
+    const double w = weights_.empty() ? 1.0 : weights_[k];
+    const typename Pose::Jacobian wi = w * ji.transpose() * edge.information;
+    const typename Pose::Jacobian wj = w * jj.transpose() * edge.information;
     if (s.from >= 0) {
       system_->AddDiagonal(s.from, wi * ji);
       rhs.template segment<D>(s.from * D) -= wi * r;
@@ -99,7 +110,9 @@ MinimizeResult LocalProblem<Pose>::Minimize(std::vector<Pose>* x,
 template <class Pose>
 double LocalProblem<Pose>::Chi2(const std::vector<Pose>& x) const {
   double chi2 = 0.0;
-  for (const Edge* e : edges_) chi2 += EdgeChi2(*e, x);
+  for (size_t k = 0; k < edges_.size(); ++k) {
+    chi2 += (weights_.empty() ? 1.0 : weights_[k]) * EdgeChi2(*edges_[k], x);
+  }
   return chi2;
 }
 

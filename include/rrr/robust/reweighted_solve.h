@@ -1,0 +1,39 @@
+// Least squares over odometry and every loop with per-loop weights that are
+// recomputed as the estimate changes: the machinery of robust kernels.
+#ifndef RRR_ROBUST_REWEIGHTED_SOLVE_H_
+#define RRR_ROBUST_REWEIGHTED_SOLVE_H_
+
+#include <functional>
+#include <vector>
+
+#include "rrr/graph/pose_graph.h"
+#include "rrr/solver/convergence.h"
+
+namespace rrr {
+
+// Sets the weights (in [0, 1], one per loop) from every loop's d²_l at the
+// current estimate; returns true when they have settled (the solve then runs
+// to convergence with them and stops).
+using Reweigh = std::function<bool(const std::vector<double>& loop_chi2,
+                                   std::vector<double>* weights)>;
+
+// The result of ReweightedSolve.
+template <class Pose>
+struct ReweightedResult {
+  std::vector<Pose> estimate;   // every pose
+  std::vector<double> weights;  // of each loop at the end
+  int iterations = 0;           // Gauss–Newton steps
+};
+
+// Starting from the odometry with every weight 1, alternates one
+// Gauss–Newton step of odometry plus the weighted loops (the first pose
+// held) with `reweigh`, until the weights settle and the error stops
+// decreasing, or `options.max_iterations` steps.
+template <class Pose>
+ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
+                                       const Reweigh& reweigh,
+                                       const ConvergenceOptions& options);
+
+}  // namespace rrr
+
+#endif  // RRR_ROBUST_REWEIGHTED_SOLVE_H_

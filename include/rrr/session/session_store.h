@@ -1,0 +1,122 @@
+// A robot's session on disk: what a verifier was given and what it decided,
+// kept in an SQLite database so that a crash loses at most one update.
+#ifndef RRR_SESSION_SESSION_STORE_H_
+#define RRR_SESSION_SESSION_STORE_H_
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rrr/graph/odometry_noise.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/online_verifier.h"
+
+namespace rrr {
+
+// A session database that cannot be used: what() reads "PATH: PROBLEM".
+class SessionError : public std::runtime_error {
+ public:
+  SessionError(const std::string& path, const std::string& problem)
+      : std::runtime_error(path + ": " + problem) {}
+};
+
+// The schema version this library writes and reads.
+constexpr int kSessionSchemaVersion = 1;
+
+// A keyframe as the robot's odometry reported it: its time stamp, its pose
+// in the odometry frame and that pose's covariance.
+template <class Pose>
+struct KeyframeRecord {
+  std::int64_t stamp_ns = 0;
+  Pose odometry_pose;
+  OdometryCovariance covariance = OdometryCovariance::Zero();
+};
+
+// What Resume found and did.
+struct ResumeSummary {
+  int keyframes = 0;
+  int candidates = 0;
+  int updates = 0;
+  // Candidates whose replayed state differs from the recorded one (0 unless
+  // the verifier's options changed between the runs).
+  int differing_decisions = 0;
+};
+
+// The inputs of an OnlineVerifier and its decisions, recorded as they happen
+// in an SQLite database (WAL journal): the keyframes with their odometry
+// edges, the loop candidates in arrival order, and each update with the
+// decisions it changed. What is recorded between two updates is written in
+// one transaction by CommitUpdate, so after a crash the database holds every
+// finished update and nothing of the unfinished one. Not thread-safe: one
+// owner (the verifier's thread) calls every method.
+template <class Pose>
+class SessionStore {
+ public:
+  using Information = typename Constraint<Pose>::Information;
+
+  // Opens the database at `path`, creating it (with the schema) if it does
+  // not exist. `procedure` names the decision procedure that writes it. Throws
+  // SessionError naming the file if it is not a session database, if its
+  // schema version is not kSessionSchemaVersion, or if it was recorded in
+  // the other dimension or with another procedure.
+  SessionStore(const std::string& path, const std::string& procedure);
+  ~SessionStore();
+  SessionStore(const SessionStore&) = delete;
+  SessionStore& operator=(const SessionStore&) = delete;
+
+  // Feeds the recorded session to `verifier`, which must be new, in the order
+  // it was recorded, running Update() (or Finish()) where the recording ran
+  // one; calls `on_keyframe` with each keyframe's id and record in order.
+  // Compares the replayed decisions with the recorded ones.
+  ResumeSummary Resume(
+      OnlineVerifier<Pose>* verifier,
+      const std::function<void(PoseId, const KeyframeRecord<Pose>&)>&
+          on_keyframe);
+
+  // Records the first keyframe (pose `id`), then each further keyframe
+  // with the odometry edge from the previous one, and each candidate as
+  // OnlineVerifier::AddLoop numbered it. Held in memory until CommitUpdate.
+  void RecordFirstKeyframe(PoseId id, const KeyframeRecord<Pose>& keyframe);
+  void RecordKeyframe(PoseId id, const KeyframeRecord<Pose>& keyframe,
+                      const Pose& odometry, const Information& information);
+  void RecordCandidate(int number, PoseId a, PoseId b, const Pose& z,
+                       const Information& information);
+  // Writes what was recorded since the last commit and the update that
+  // followed it (`finish`: a Finish()) with its changes, in one transaction.
+  // Throws SessionError if the database cannot be written.
+  void CommitUpdate(bool finish, const std::vector<DecisionChange>& changes);
+
+  // Inputs recorded and not yet committed.
+  int num_uncommitted() const;
+  const std::string& path() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A session database read back as a pose graph: the keyframes (estimates
+// composed from the odometry), the odometry edges, the candidates whose poses
+// exist as loops in arrival order, and each loop's last recorded state.
+struct SessionContents {
+  AnyPoseGraph graph;
+  std::vector<LoopState> loop_states;  // by loop index of `graph`
+  std::string procedure;
+  int updates = 0;
+  int candidates_waiting = 0;  // candidates naming a pose never recorded
+};
+
+// Reads the session database at `path` (read only). Throws SessionError
+// naming the file for anything but a complete session database of this
+// schema version (a corrupt file, another format, bad values).
+SessionContents ReadSession(const std::string& path);
+
+// True if the file at `path` starts as an SQLite database does.
+bool LooksLikeSessionDatabase(const std::string& path);
+
+}  // namespace rrr
+
+#endif  // RRR_SESSION_SESSION_STORE_H_

@@ -1,0 +1,58 @@
+#include "rrr/robust/reweighted_solve.h"
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/solver/edge_error.h"
+#include "rrr/solver/local_problem.h"
+
+namespace rrr {
+
+template <class Pose>
+ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
+                                       const Reweigh& reweigh,
+                                       const ConvergenceOptions& options) {
+  ReweightedResult<Pose> result;
+  result.estimate = graph.ComposeOdometry();
+  const size_t odometry = graph.odometry().size();
+  const size_t loops = graph.loops().size();
+  std::vector<const Constraint<Pose>*> edges;
+  for (const auto& e : graph.odometry()) edges.push_back(&e);
+  for (const auto& e : graph.loops()) edges.push_back(&e);
+  std::vector<int> free;
+  for (int p = 1; p < graph.num_poses(); ++p) free.push_back(p);
+  LocalProblem<Pose> problem(graph.num_poses(), free, edges);
+
+  result.weights.assign(loops, 1.0);
+  std::vector<double> weights(odometry + loops, 1.0);
+  std::vector<double> loop_chi2(loops);
+  double previous = std::numeric_limits<double>::infinity();
+  bool settled = false;
+  while (result.iterations < options.max_iterations) {
+    for (size_t k = 0; k < loops; ++k) {
+      loop_chi2[k] = EdgeChi2(graph.loops()[k], result.estimate);
+    }
+    if (!settled) settled = reweigh(loop_chi2, &result.weights);
+    std::copy(result.weights.begin(), result.weights.end(),
+              weights.begin() + static_cast<std::ptrdiff_t>(odometry));
+    problem.SetWeights(weights);
+    const double before = problem.Chi2(result.estimate);
+    if (!problem.Step(&result.estimate)) break;
+    ++result.iterations;
+    const double after = problem.Chi2(result.estimate);
+    if (settled && (after >= previous ||
+                    before - after <= options.relative_decrease * after)) {
+      break;
+    }
+    previous = after;
+  }
+  return result;
+}
+
+template ReweightedResult<Pose2> ReweightedSolve(const PoseGraph<Pose2>&,
+                                                 const Reweigh&,
+                                                 const ConvergenceOptions&);
+template ReweightedResult<Pose3> ReweightedSolve(const PoseGraph<Pose3>&,
+                                                 const Reweigh&,
+                                                 const ConvergenceOptions&);
+
+}  // namespace rrr

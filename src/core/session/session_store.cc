@@ -1,0 +1,540 @@
+#include "rrr/session/session_store.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "sqlite_db.h"
+
+namespace rrr {
+namespace {
+
+// What a row of the inputs table is.
+enum InputKind : std::int64_t { kFirstKeyframe = 0, kKeyframe = 1, kLoop = 2 };
+
+constexpr const char* kSchema = R"sql(
+CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE inputs(
+  seq INTEGER PRIMARY KEY,     -- arrival order
+  kind INTEGER NOT NULL,       -- 0 first keyframe, 1 keyframe, 2 candidate
+  pose_id INTEGER,             -- keyframes
+  stamp_ns INTEGER,            -- keyframes
+  odometry_pose BLOB,          -- keyframes: pose in the odometry frame
+  covariance BLOB,             -- keyframes: its 6 x 6 covariance
+  candidate INTEGER,           -- candidates: number in arrival order
+  from_id INTEGER, to_id INTEGER,  -- candidates
+  measurement BLOB,            -- odometry edge or candidate
+  information BLOB);           -- odometry edge or candidate
+CREATE TABLE updates(number INTEGER PRIMARY KEY,
+  last_seq INTEGER NOT NULL,   -- the inputs up to here came before it
+  finish INTEGER NOT NULL);
+CREATE TABLE decisions(update_number INTEGER NOT NULL,
+  candidate INTEGER NOT NULL, state INTEGER NOT NULL);
+)sql";
+
+constexpr const char* kInsertInput =
+    "INSERT INTO inputs(seq, kind, pose_id, stamp_ns, odometry_pose, "
+    "covariance, candidate, from_id, to_id, measurement, information) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+
+std::vector<double> Encode(const Pose2& p) { return {p.x(), p.y(), p.theta()}; }
+std::vector<double> Encode(const Pose3& p) {
+  const auto& q = p.quaternion();
+  const auto& t = p.translation();
+  return {q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z()};
+}
+template <class Derived>
+std::vector<double> Encode(const Eigen::MatrixBase<Derived>& m) {
+  const typename Derived::PlainObject plain = m;
+  return std::vector<double>(plain.data(), plain.data() + plain.size());
+}
+
+constexpr size_t EncodedSize(const Pose2*) { return 3; }
+constexpr size_t EncodedSize(const Pose3*) { return 7; }
+constexpr int DimensionOf(const Pose2*) { return 2; }
+constexpr int DimensionOf(const Pose3*) { return 3; }
+
+// Reads doubles from `column`, all finite, or fails naming `what` and `seq`.
+std::vector<double> FiniteDoubles(const SqliteDb& db,
+                                  const SqliteStatement& row, int column,
+                                  size_t count, const std::string& what,
+                                  std::int64_t seq) {
+  std::vector<double> values = row.Doubles(column, count);
+  for (const double v : values) {
+    if (!std::isfinite(v)) {
+      db.Fail("input " + std::to_string(seq) + ": " + what +
+              " holds a value that is not a finite number");
+    }
+  }
+  return values;
+}
+
+Pose2 DecodePose(const std::vector<double>& v, const Pose2*,
+                 const std::function<void(const std::string&)>&) {
+  return Pose2(v[0], v[1], v[2]);
+}
+Pose3 DecodePose(const std::vector<double>& v, const Pose3*,
+                 const std::function<void(const std::string&)>& fail) {
+  Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
+  if (!(q.norm() > 1e-9)) fail("a quaternion is zero");
+  if (std::abs(q.norm() - 1.0) > 1e-6) q.normalize();
+  return Pose3(q, Eigen::Vector3d(v[4], v[5], v[6]));
+}
+
+// One row of the inputs table, decoded and checked.
+template <class Pose>
+struct InputRow {
+  using Information = typename Constraint<Pose>::Information;
+  std::int64_t seq = 0;
+  InputKind kind = kFirstKeyframe;
+  PoseId pose_id = 0;
+  KeyframeRecord<Pose> keyframe;
+  int candidate = 0;
+  PoseId from = 0, to = 0;
+  Pose measurement;
+  Information information = Information::Identity();
+};
+
+// Calls `visit` with each input in arrival order. Fails on a row that is
+// not a well-formed input (unknown kind, missing or non-finite values, an
+// information matrix that is not symmetric positive definite).
+template <class Pose>
+void ForEachInput(SqliteDb* db,
+                  const std::function<void(const InputRow<Pose>&)>& visit) {
+  constexpr int kDof = Pose::kDof;
+  const size_t pose_size = EncodedSize(static_cast<const Pose*>(nullptr));
+  SqliteStatement query(
+      db,
+      "SELECT seq, kind, pose_id, stamp_ns, odometry_pose, covariance, "
+      "candidate, from_id, to_id, measurement, information FROM inputs "
+      "ORDER BY seq");
+  InputRow<Pose> row;
+  while (query.Step()) {
+    row.seq = query.Int(0);
+    const std::string at = "input " + std::to_string(row.seq);
+    const auto fail = [&](const std::string& problem) {
+      db->Fail(at + ": " + problem);
+    };
+    const std::int64_t kind = query.Int(1);
+    if (kind < kFirstKeyframe || kind > kLoop) {
+      fail("unknown kind " + std::to_string(kind));
+    }
+    row.kind = static_cast<InputKind>(kind);
+    if (row.kind == kLoop) {
+      const std::int64_t number = query.Int(6);
+      if (number < 0 || number > std::numeric_limits<int>::max()) {
+        fail("candidate number " + std::to_string(number) + " is out of range");
+      }
+      row.candidate = static_cast<int>(number);
+      row.from = query.Int(7);
+      row.to = query.Int(8);
+    } else {
+      row.pose_id = query.Int(2);
+      row.keyframe.stamp_ns = query.Int(3);
+      row.keyframe.odometry_pose =
+          DecodePose(FiniteDoubles(*db, query, 4, pose_size, "a pose", row.seq),
+                     static_cast<const Pose*>(nullptr), fail);
+      const std::vector<double> covariance =
+          FiniteDoubles(*db, query, 5, 36, "a covariance", row.seq);
+      row.keyframe.covariance =
+          Eigen::Map<const OdometryCovariance>(covariance.data());
+    }
+    if (row.kind != kFirstKeyframe) {
+      row.measurement = DecodePose(
+          FiniteDoubles(*db, query, 9, pose_size, "a measurement", row.seq),
+          static_cast<const Pose*>(nullptr), fail);
+      const std::vector<double> information = FiniteDoubles(
+          *db, query, 10, kDof * kDof, "an information matrix", row.seq);
+      row.information = Eigen::Map<const typename InputRow<Pose>::Information>(
+          information.data());
+      const bool symmetric =
+          (row.information - row.information.transpose()).norm() <=
+          1e-9 * row.information.norm();
+      if (!symmetric || row.information.llt().info() != Eigen::Success) {
+        fail("an information matrix is not symmetric positive definite");
+      }
+    }
+    visit(row);
+  }
+}
+
+struct UpdateRow {
+  std::int64_t number, last_seq;
+  bool finish;
+};
+
+std::vector<UpdateRow> ReadUpdates(SqliteDb* db) {
+  SqliteStatement query(
+      db, "SELECT number, last_seq, finish FROM updates ORDER BY number");
+  std::vector<UpdateRow> updates;
+  while (query.Step()) {
+    updates.push_back({query.Int(0), query.Int(1), query.Int(2) != 0});
+  }
+  return updates;
+}
+
+// The last recorded state of each candidate that has a decision.
+std::map<int, LoopState> ReadFinalStates(SqliteDb* db) {
+  SqliteStatement query(db,
+                        "SELECT candidate, state FROM decisions "
+                        "ORDER BY update_number, rowid");
+  std::map<int, LoopState> states;
+  while (query.Step()) {
+    const std::int64_t state = query.Int(1);
+    if (state < 0 || state > 2) {
+      db->Fail("a decision has the unknown state " + std::to_string(state));
+    }
+    states[static_cast<int>(query.Int(0))] = static_cast<LoopState>(state);
+  }
+  return states;
+}
+
+std::string MetaValue(SqliteDb* db, const std::string& key) {
+  SqliteStatement query(db, "SELECT value FROM meta WHERE key = ?");
+  query.Bind(1, key);
+  if (!query.Step()) db->Fail("it has no " + key + " (not a session database)");
+  return query.Text(0);
+}
+
+// Checks that `db` is a session database of this schema version; returns
+// its dimension (2 or 3).
+int CheckSchema(SqliteDb* db) {
+  SqliteStatement tables(
+      db,
+      "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND "
+      "name IN ('meta', 'inputs', 'updates', 'decisions')");
+  tables.Step();
+  if (tables.Int(0) != 4) db->Fail("it is not a session database of rrr");
+  const std::string version = MetaValue(db, "schema_version");
+  if (version != std::to_string(kSessionSchemaVersion)) {
+    db->Fail("schema version " + version + ", but this rrr reads version " +
+             std::to_string(kSessionSchemaVersion));
+  }
+  const std::string dimension = MetaValue(db, "dimension");
+  if (dimension != "2" && dimension != "3") {
+    db->Fail("dimension " + dimension + " is neither 2 nor 3");
+  }
+  return dimension == "2" ? 2 : 3;
+}
+
+}  // namespace
+
+template <class Pose>
+class SessionStore<Pose>::Impl {
+ public:
+  Impl(const std::string& path, const std::string& procedure) : db(path, true) {
+    db.Execute("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL;");
+    SqliteStatement count(&db, "SELECT count(*) FROM sqlite_master");
+    count.Step();
+    if (count.Int(0) == 0) {
+      db.Execute(std::string("BEGIN;") + kSchema + "COMMIT;");
+      SqliteStatement meta(&db, "INSERT INTO meta(key, value) VALUES (?, ?)");
+      const std::pair<std::string, std::string> rows[] = {
+          {"schema_version", std::to_string(kSessionSchemaVersion)},
+          {"dimension",
+           std::to_string(DimensionOf(static_cast<const Pose*>(nullptr)))},
+          {"procedure", procedure}};
+      for (const auto& [key, value] : rows) {
+        meta.Bind(1, key);
+        meta.Bind(2, value);
+        meta.Step();
+        meta.Reset();
+      }
+    }
+    const int dimension = CheckSchema(&db);
+    if (dimension != DimensionOf(static_cast<const Pose*>(nullptr))) {
+      db.Fail("it holds a " + std::to_string(dimension) +
+              "D session, but this verifier is " +
+              std::to_string(DimensionOf(static_cast<const Pose*>(nullptr))) +
+              "D");
+    }
+    const std::string recorded = MetaValue(&db, "procedure");
+    if (recorded != procedure) {
+      db.Fail("it was recorded with the " + recorded +
+              " procedure; resume it with the same procedure, not " +
+              procedure);
+    }
+    SqliteStatement last(&db,
+                         "SELECT coalesce(max(seq), 0), (SELECT "
+                         "coalesce(max(number), 0) FROM updates) FROM inputs");
+    last.Step();
+    next_seq = last.Int(0) + 1;
+    next_update = last.Int(1) + 1;
+    insert_input = std::make_unique<SqliteStatement>(&db, kInsertInput);
+    insert_update = std::make_unique<SqliteStatement>(
+        &db, "INSERT INTO updates(number, last_seq, finish) VALUES (?, ?, ?)");
+    insert_decision = std::make_unique<SqliteStatement>(
+        &db,
+        "INSERT INTO decisions(update_number, candidate, state) VALUES (?, ?, "
+        "?)");
+  }
+
+  SqliteDb db;
+  // Prepared once, used by every CommitUpdate.
+  std::unique_ptr<SqliteStatement> insert_input, insert_update, insert_decision;
+  std::int64_t next_seq = 1, next_update = 1;
+  // Rows recorded since the last commit, as bound values.
+  struct Pending {
+    InputKind kind;
+    PoseId pose_id = 0;
+    KeyframeRecord<Pose> keyframe;
+    int candidate = 0;
+    PoseId from = 0, to = 0;
+    std::vector<double> measurement, information;
+  };
+  std::vector<Pending> pending;
+};
+
+template <class Pose>
+SessionStore<Pose>::SessionStore(const std::string& path,
+                                 const std::string& procedure)
+    : impl_(std::make_unique<Impl>(path, procedure)) {}
+
+template <class Pose>
+SessionStore<Pose>::~SessionStore() = default;
+
+template <class Pose>
+const std::string& SessionStore<Pose>::path() const {
+  return impl_->db.path();
+}
+
+template <class Pose>
+int SessionStore<Pose>::num_uncommitted() const {
+  return static_cast<int>(impl_->pending.size());
+}
+
+template <class Pose>
+void SessionStore<Pose>::RecordFirstKeyframe(
+    PoseId id, const KeyframeRecord<Pose>& keyframe) {
+  typename Impl::Pending row;
+  row.kind = kFirstKeyframe;
+  row.pose_id = id;
+  row.keyframe = keyframe;
+  impl_->pending.push_back(std::move(row));
+}
+
+template <class Pose>
+void SessionStore<Pose>::RecordKeyframe(PoseId id,
+                                        const KeyframeRecord<Pose>& keyframe,
+                                        const Pose& odometry,
+                                        const Information& information) {
+  typename Impl::Pending row;
+  row.kind = kKeyframe;
+  row.pose_id = id;
+  row.keyframe = keyframe;
+  row.measurement = Encode(odometry);
+  row.information = Encode(information);
+  impl_->pending.push_back(std::move(row));
+}
+
+template <class Pose>
+void SessionStore<Pose>::RecordCandidate(int number, PoseId a, PoseId b,
+                                         const Pose& z,
+                                         const Information& information) {
+  typename Impl::Pending row;
+  row.kind = kLoop;
+  row.candidate = number;
+  row.from = a;
+  row.to = b;
+  row.measurement = Encode(z);
+  row.information = Encode(information);
+  impl_->pending.push_back(std::move(row));
+}
+
+template <class Pose>
+void SessionStore<Pose>::CommitUpdate(
+    bool finish, const std::vector<DecisionChange>& changes) {
+  SqliteDb& db = impl_->db;
+  db.Execute("BEGIN IMMEDIATE");
+  try {
+    SqliteStatement& insert = *impl_->insert_input;
+    std::int64_t seq = impl_->next_seq;
+    for (const auto& row : impl_->pending) {
+      insert.Bind(1, seq++);
+      insert.Bind(2, static_cast<std::int64_t>(row.kind));
+      if (row.kind == kLoop) {
+        for (int column = 3; column <= 6; ++column) insert.BindNull(column);
+        insert.Bind(7, static_cast<std::int64_t>(row.candidate));
+        insert.Bind(8, row.from);
+        insert.Bind(9, row.to);
+      } else {
+        insert.Bind(3, row.pose_id);
+        insert.Bind(4, row.keyframe.stamp_ns);
+        insert.Bind(5, Encode(row.keyframe.odometry_pose));
+        insert.Bind(6, Encode(row.keyframe.covariance));
+        for (int column = 7; column <= 9; ++column) insert.BindNull(column);
+      }
+      if (row.kind == kFirstKeyframe) {
+        insert.BindNull(10);
+        insert.BindNull(11);
+      } else {
+        insert.Bind(10, row.measurement);
+        insert.Bind(11, row.information);
+      }
+      insert.Step();
+      insert.Reset();
+    }
+    SqliteStatement& update = *impl_->insert_update;
+    update.Bind(1, impl_->next_update);
+    update.Bind(2, seq - 1);
+    update.Bind(3, static_cast<std::int64_t>(finish));
+    update.Step();
+    update.Reset();
+    SqliteStatement& decision = *impl_->insert_decision;
+    for (const DecisionChange& change : changes) {
+      decision.Bind(1, impl_->next_update);
+      decision.Bind(2, static_cast<std::int64_t>(change.candidate));
+      decision.Bind(3, static_cast<std::int64_t>(change.current));
+      decision.Step();
+      decision.Reset();
+    }
+    db.Execute("COMMIT");
+    impl_->next_seq = seq;
+    ++impl_->next_update;
+    impl_->pending.clear();
+  } catch (...) {
+    for (auto* statement :
+         {impl_->insert_input.get(), impl_->insert_update.get(),
+          impl_->insert_decision.get()}) {
+      statement->Reset();
+    }
+    sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+template <class Pose>
+ResumeSummary SessionStore<Pose>::Resume(
+    OnlineVerifier<Pose>* verifier,
+    const std::function<void(PoseId, const KeyframeRecord<Pose>&)>&
+        on_keyframe) {
+  SqliteDb& db = impl_->db;
+  const std::vector<UpdateRow> updates = ReadUpdates(&db);
+  ResumeSummary summary;
+  size_t next = 0;
+  const auto run_updates_through = [&](std::int64_t seq) {
+    for (; next < updates.size() && updates[next].last_seq <= seq; ++next) {
+      if (updates[next].finish) {
+        verifier->Finish();
+      } else {
+        verifier->Update();
+      }
+      ++summary.updates;
+    }
+  };
+  run_updates_through(0);
+  ForEachInput<Pose>(&db, [&](const InputRow<Pose>& row) {
+    const std::string at = "input " + std::to_string(row.seq) + ": ";
+    try {
+      if (row.kind == kFirstKeyframe) {
+        verifier->AddFirstPose(row.pose_id, row.keyframe.odometry_pose);
+      } else if (row.kind == kKeyframe) {
+        const PoseId id =
+            verifier->AddOdometry(row.measurement, row.information);
+        if (id != row.pose_id) {
+          db.Fail(at + "keyframe " + std::to_string(row.pose_id) +
+                  " does not follow keyframe " + std::to_string(id - 1));
+        }
+      } else {
+        const int number = verifier->AddLoop(row.from, row.to, row.measurement,
+                                             row.information);
+        if (number != row.candidate) {
+          db.Fail(at + "candidate " + std::to_string(row.candidate) +
+                  " arrives as number " + std::to_string(number));
+        }
+        ++summary.candidates;
+      }
+    } catch (const std::logic_error& e) {  // incl. DegenerateCandidate
+      db.Fail(at + e.what());
+    }
+    if (row.kind != kLoop) {
+      ++summary.keyframes;
+      if (on_keyframe) on_keyframe(row.pose_id, row.keyframe);
+    }
+    run_updates_through(row.seq);
+  });
+  run_updates_through(std::numeric_limits<std::int64_t>::max());
+  for (const auto& [candidate, state] : ReadFinalStates(&db)) {
+    if (candidate >= verifier->num_candidates() ||
+        verifier->state(candidate) != state) {
+      ++summary.differing_decisions;
+    }
+  }
+  return summary;
+}
+
+namespace {
+
+template <class Pose>
+SessionContents ReadSessionOf(SqliteDb* db) {
+  SessionContents contents;
+  contents.procedure = MetaValue(db, "procedure");
+  contents.updates = static_cast<int>(ReadUpdates(db).size());
+  const std::map<int, LoopState> states = ReadFinalStates(db);
+  PoseGraph<Pose> graph;
+  Pose last;
+  const auto fail = [&](const InputRow<Pose>& row, const std::string& what) {
+    db->Fail("input " + std::to_string(row.seq) + ": " + what);
+  };
+  std::vector<InputRow<Pose>> candidates;
+  ForEachInput<Pose>(db, [&](const InputRow<Pose>& row) {
+    if (row.kind == kLoop) {
+      candidates.push_back(row);
+      return;
+    }
+    if ((row.kind == kFirstKeyframe) != (graph.num_poses() == 0)) {
+      fail(row, "the first keyframe must come first, and only once");
+    }
+    if (graph.num_poses() > 0 && row.pose_id != graph.ids().back() + 1) {
+      fail(row, "keyframe " + std::to_string(row.pose_id) +
+                    " does not follow keyframe " +
+                    std::to_string(graph.ids().back()));
+    }
+    last = row.kind == kFirstKeyframe ? row.keyframe.odometry_pose
+                                      : last * row.measurement;
+    graph.AddPose(row.pose_id, last);
+    if (row.kind == kKeyframe) {
+      const int to = graph.num_poses() - 1;
+      graph.AddEdge({to - 1, to, row.measurement, row.information});
+    }
+  });
+  for (const auto& row : candidates) {
+    const int a = graph.IndexOf(row.from), b = graph.IndexOf(row.to);
+    if (a < 0 || b < 0) {
+      ++contents.candidates_waiting;
+      continue;
+    }
+    if (std::abs(a - b) <= 1) fail(row, "a candidate joins no loop");
+    graph.AddEdge({a, b, row.measurement, row.information});
+    const auto state = states.find(row.candidate);
+    contents.loop_states.push_back(state == states.end() ? LoopState::kPending
+                                                         : state->second);
+  }
+  contents.graph = std::move(graph);
+  return contents;
+}
+
+}  // namespace
+
+SessionContents ReadSession(const std::string& path) {
+  if (!std::ifstream(path)) throw SessionError(path, "cannot be opened");
+  SqliteDb db(path, false);
+  return CheckSchema(&db) == 2 ? ReadSessionOf<Pose2>(&db)
+                               : ReadSessionOf<Pose3>(&db);
+}
+
+bool LooksLikeSessionDatabase(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char header[16] = {};
+  in.read(header, sizeof(header));
+  return in && std::string(header, 15) == "SQLite format 3";
+}
+
+template class SessionStore<Pose2>;
+template class SessionStore<Pose3>;
+
+}  // namespace rrr

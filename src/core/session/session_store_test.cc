@@ -1,0 +1,233 @@
+// The session database: a recorded run resumes with the same decisions, a
+// crash loses only the unfinished update, and a database that cannot be
+// resumed is refused with the file and the reason.
+#include "rrr/session/session_store.h"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "../testing/replay.h"
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/rrr/map_verifier.h"
+#include "rrr/sim/grid_world.h"
+
+namespace rrr {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SessionStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rrr_session_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    path_ = (dir_ / "session.db").string();
+    GridWorldOptions options;
+    options.poses = 700;
+    options.false_loops = 20;
+    options.group = 2;
+    world_ = SimulateGridWorld(options);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Feeds the world's first `poses` poses (and the candidates that have
+  // both poses by then) to `verifier` and `store` as the node does: an
+  // update after every `update_every` poses, each committed.
+  void Record(MapVerifier<Pose2>* verifier, SessionStore<Pose2>* store,
+              int poses, int update_every, bool commit_last = true) {
+    const auto& g = world_.graph;
+    std::vector<std::vector<int>> loops_at(g.num_poses());
+    for (size_t k = 0; k < g.loops().size(); ++k) {
+      const auto& l = g.loops()[k];
+      loops_at[std::max(l.from, l.to)].push_back(static_cast<int>(k));
+    }
+    for (int p = 0; p < poses; ++p) {
+      KeyframeRecord<Pose2> keyframe;
+      keyframe.stamp_ns = 1000000000LL * p;
+      keyframe.odometry_pose = g.estimates()[p];
+      keyframe.covariance(0, 0) = p;
+      if (p == 0) {
+        verifier->AddFirstPose(g.ids()[0], g.estimates()[0]);
+        store->RecordFirstKeyframe(g.ids()[0], keyframe);
+      } else {
+        const auto& odometry = g.odometry()[p - 1];
+        const PoseId id =
+            verifier->AddOdometry(odometry.measurement, odometry.information);
+        store->RecordKeyframe(id, keyframe, odometry.measurement,
+                              odometry.information);
+      }
+      for (const int k : loops_at[p]) {
+        const auto& l = g.loops()[k];
+        const int number = verifier->AddLoop(g.ids()[l.from], g.ids()[l.to],
+                                             l.measurement, l.information);
+        store->RecordCandidate(number, g.ids()[l.from], g.ids()[l.to],
+                               l.measurement, l.information);
+      }
+      const bool last = p + 1 == poses;
+      if ((p + 1) % update_every == 0 || last) {
+        const auto changes = verifier->Update();
+        if (!last || commit_last) store->CommitUpdate(false, changes);
+      }
+    }
+  }
+
+  fs::path dir_;
+  std::string path_;
+  SimulatedWorld world_;
+};
+
+std::vector<LoopState> States(const OnlineVerifier<Pose2>& verifier) {
+  std::vector<LoopState> states;
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    states.push_back(verifier.state(c));
+  }
+  return states;
+}
+
+TEST_F(SessionStoreTest, ResumesWithTheSameDecisionsAndKeyframes) {
+  MapVerifier<Pose2> original{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    Record(&original, &store, world_.graph.num_poses(), 7);
+    const auto changes = original.Finish();
+    store.CommitUpdate(true, changes);
+  }
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  std::vector<KeyframeRecord<Pose2>> keyframes;
+  const ResumeSummary summary =
+      store.Resume(&resumed, [&](PoseId id, const KeyframeRecord<Pose2>& k) {
+        EXPECT_EQ(id, static_cast<PoseId>(keyframes.size()));
+        keyframes.push_back(k);
+      });
+  EXPECT_EQ(summary.keyframes, world_.graph.num_poses());
+  EXPECT_EQ(summary.candidates, original.num_candidates());
+  EXPECT_EQ(summary.updates, (world_.graph.num_poses() + 6) / 7 + 1);
+  EXPECT_EQ(summary.differing_decisions, 0);
+  EXPECT_EQ(States(resumed), States(original));
+  ASSERT_EQ(keyframes.size(), static_cast<size_t>(world_.graph.num_poses()));
+  EXPECT_EQ(keyframes[5].stamp_ns, 5000000000LL);
+  EXPECT_EQ(keyframes[5].covariance(0, 0), 5.0);
+  EXPECT_EQ(keyframes[5].odometry_pose.x(), world_.graph.estimates()[5].x());
+  EXPECT_GT(original.AcceptedLoops().size(), 0u);
+}
+
+TEST_F(SessionStoreTest, ACrashLosesOnlyTheUnfinishedUpdate) {
+  const int poses = 400;
+  {
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, poses, 10, /*commit_last=*/false);
+    EXPECT_GT(store.num_uncommitted(), 0);
+  }  // gone before its last commit, as after kill -9
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  const ResumeSummary summary = store.Resume(&resumed, nullptr);
+  // The last update (poses 390..399) never committed.
+  EXPECT_EQ(summary.keyframes, poses - 10);
+  EXPECT_EQ(resumed.graph().num_poses(), summary.keyframes);
+  EXPECT_EQ(summary.differing_decisions, 0);
+  // Recording goes on where the database ends, and resumes again.
+  MapVerifier<Pose2> reference{RrrOptions()};
+  {
+    SessionStore<Pose2> fresh((dir_ / "reference.db").string(), "map");
+    Record(&reference, &fresh, summary.keyframes, 10);
+  }
+  EXPECT_EQ(States(resumed), States(reference));
+}
+
+TEST_F(SessionStoreTest, ReadSessionGivesTheGraphAndTheLastStates) {
+  MapVerifier<Pose2> verifier{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, world_.graph.num_poses(), 50);
+    store.CommitUpdate(true, verifier.Finish());
+  }
+  const SessionContents contents = ReadSession(path_);
+  const auto& graph = std::get<PoseGraph2>(contents.graph);
+  EXPECT_EQ(contents.procedure, "map");
+  EXPECT_EQ(graph.num_poses(), world_.graph.num_poses());
+  EXPECT_EQ(graph.loops().size(), world_.graph.loops().size());
+  EXPECT_EQ(graph.odometry().size(), world_.graph.odometry().size());
+  ASSERT_EQ(contents.loop_states.size(), graph.loops().size());
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    EXPECT_EQ(contents.loop_states[verifier.loop_of(c)], verifier.state(c));
+  }
+  EXPECT_TRUE(LooksLikeSessionDatabase(path_));
+}
+
+// Runs `sql` on the database at `path`.
+void Tamper(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+}
+
+// The message of the SessionError that `open` throws, or "" if none.
+template <class Open>
+std::string ErrorOf(const Open& open) {
+  try {
+    open();
+  } catch (const SessionError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_F(SessionStoreTest, RefusesWhatItCannotResume) {
+  { SessionStore<Pose2> store(path_, "map"); }
+  const auto open2 = [&] { SessionStore<Pose2> store(path_, "map"); };
+  EXPECT_NE(ErrorOf([&] {
+              SessionStore<Pose3> store(path_, "map");
+            }).find("2D session, but this verifier is 3D"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              SessionStore<Pose2> store(path_, "published");
+            }).find("recorded with the map procedure"),
+            std::string::npos);
+  Tamper(path_, "UPDATE meta SET value = '99' WHERE key = 'schema_version'");
+  const std::string version = ErrorOf(open2);
+  EXPECT_EQ(version.rfind(path_, 0), 0u) << version;
+  EXPECT_NE(version.find("schema version 99"), std::string::npos) << version;
+
+  const std::string text = (dir_ / "graph.g2o").string();
+  std::ofstream(text) << "VERTEX_SE2 0 0 0 0\n";
+  EXPECT_NE(ErrorOf([&] { ReadSession(text); }).find(text), std::string::npos);
+  EXPECT_FALSE(LooksLikeSessionDatabase(text));
+  EXPECT_NE(ErrorOf([&] {
+              ReadSession((dir_ / "none.db").string());
+            }).find("cannot be opened"),
+            std::string::npos);
+}
+
+TEST_F(SessionStoreTest, RefusesRowsThatAreNotInputs) {
+  MapVerifier<Pose2> verifier{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, 100, 10);
+  }
+  Tamper(path_, "UPDATE inputs SET information = x'00' WHERE seq = 5");
+  EXPECT_NE(ErrorOf([&] { ReadSession(path_); }).find("holds 1 bytes"),
+            std::string::npos);
+  Tamper(path_, "UPDATE inputs SET information = NULL, kind = 7 WHERE seq = 5");
+  EXPECT_NE(ErrorOf([&] { ReadSession(path_); }).find("input 5: unknown kind"),
+            std::string::npos);
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  EXPECT_NE(
+      ErrorOf([&] { store.Resume(&resumed, nullptr); }).find("unknown kind 7"),
+      std::string::npos);
+}
+
+}  // namespace
+}  // namespace rrr

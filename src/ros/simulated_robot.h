@@ -1,0 +1,54 @@
+// A robot and its place recogniser, played from a simulated world.
+#ifndef RRR_ROS_SIMULATED_ROBOT_H_
+#define RRR_ROS_SIMULATED_ROBOT_H_
+
+#include <ros/ros.h>
+
+#include <string>
+#include <vector>
+
+#include "rrr/graph/odometry_chain.h"
+#include "rrr/graph/odometry_noise.h"
+#include "rrr/sim/grid_world.h"
+
+namespace rrr_ros {
+
+struct SimulatedRobotOptions {
+  rrr::GridWorldOptions world;  // poses, false_loops, group, seed, ...
+  double rate = 20.0;           // odometry messages per second
+  std::string odom_frame = "odom", base_frame = "base_link";
+
+  // Reads the private parameters (poses, false_loops, group, seed, rate,
+  // odom_frame, base_frame); throws std::invalid_argument naming a bad one.
+  static SimulatedRobotOptions Read(const ros::NodeHandle& nh);
+};
+
+// Publishes the world of rrr simulate as a robot and a place recogniser
+// would: nav_msgs/Odometry on `odom` at `rate` (the pose in the odometry
+// frame with its growing covariance), and each loop candidate, true or
+// false, on `loop_closures` right after its later pose, naming its poses by
+// time stamp. Publishes std_msgs/Bool true on the latched `~done` after the
+// last pose.
+class SimulatedRobot {
+ public:
+  SimulatedRobot(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
+                 const SimulatedRobotOptions& options);
+
+ private:
+  void OnTimer(const ros::TimerEvent& event);
+
+  SimulatedRobotOptions options_;
+  rrr::SimulatedWorld world_;
+  rrr::OdometryChain<rrr::Pose2> chain_;
+  std::vector<rrr::Pose2> odometry_;  // the odometry frame's poses
+  std::vector<std::vector<int>> loops_at_;
+  std::vector<ros::Time> stamps_;
+  rrr::OdometryCovariance covariance_ = rrr::OdometryCovariance::Zero();
+  int next_ = 0;
+  ros::Publisher odom_pub_, loop_pub_, done_pub_;
+  ros::Timer timer_;
+};
+
+}  // namespace rrr_ros
+
+#endif  // RRR_ROS_SIMULATED_ROBOT_H_

@@ -1,0 +1,88 @@
+// The simulated robot and rrr_node together (test/simulated_robot.test): the
+// test builds the same world from the robot's parameters to know which
+// candidates are false.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <std_msgs/Bool.h>
+
+#include <set>
+
+#include "ros_test_helpers.h"
+#include "rrr/rrr/map_verifier.h"
+#include "rrr/sim/grid_world.h"
+#include "rrr_slam/Decisions.h"
+
+namespace {
+
+using Pairs = std::set<std::pair<int64_t, int64_t>>;
+
+TEST(SimulatedRobot, EveryCandidateIsJudgedAsInABatchRun) {
+  rrr::GridWorldOptions world;
+  int seed = 0;
+  ASSERT_TRUE(ros::param::get("/simulated_robot/poses", world.poses));
+  ASSERT_TRUE(
+      ros::param::get("/simulated_robot/false_loops", world.false_loops));
+  ASSERT_TRUE(ros::param::get("/simulated_robot/group", world.group));
+  ASSERT_TRUE(ros::param::get("/simulated_robot/seed", seed));
+  world.seed = static_cast<std::uint64_t>(seed);
+  const rrr::SimulatedWorld w = rrr::SimulateGridWorld(world);
+  Pairs false_pairs;
+  for (const int k : w.false_loops) {
+    const auto& l = w.graph.loops()[k];
+    false_pairs.insert({w.graph.ids()[l.from], w.graph.ids()[l.to]});
+  }
+  const size_t candidates = w.graph.loops().size();
+  const uint64_t inputs = w.graph.num_poses() + candidates;
+
+  ros::NodeHandle nh;
+  bool done = false;
+  rrr_slam::Decisions::ConstPtr decisions;
+  auto done_sub = nh.subscribe<std_msgs::Bool>(
+      "/simulated_robot/done", 1, [&](const auto& m) { done = m->data; });
+  auto decision_sub = nh.subscribe<rrr_slam::Decisions>(
+      "/rrr_node/decisions", 10, [&](const auto& m) { decisions = m; });
+  ASSERT_TRUE(ros::service::waitForService("/rrr_node/get_status", 30000));
+  ASSERT_TRUE(rrr_test::WaitFor(
+      [&] { return done && rrr_test::Status().inputs_processed == inputs; },
+      100.0))
+      << "processed " << rrr_test::Status().inputs_processed << " of "
+      << inputs;
+  // The message published by finish: every candidate, none pending.
+  ASSERT_TRUE(rrr_test::FinishAndWait(&decisions, candidates));
+  // The node, fed live, decides as the map procedure does on the whole
+  // world at once (its odometry information recovered from the growing
+  // covariances the robot publishes).
+  Pairs accepted, expected;
+  for (const auto& d : decisions->decisions) {
+    if (d.state == rrr_slam::LoopDecision::ACCEPTED) {
+      accepted.insert({d.from_id, d.to_id});
+    }
+  }
+  int window = 0;
+  ASSERT_TRUE(ros::param::get("/rrr_node/cluster_window", window));
+  rrr::RrrOptions options;
+  options.cluster_window = window;
+  for (const int k : rrr::VerifyWithMap(w.graph, options).accepted) {
+    const auto& l = w.graph.loops()[k];
+    expected.insert({w.graph.ids()[l.from], w.graph.ids()[l.to]});
+  }
+  EXPECT_EQ(accepted, expected);
+  size_t true_accepted = 0;
+  for (const auto& pair : accepted)
+    true_accepted += false_pairs.count(pair) == 0;
+  EXPECT_GE(true_accepted, 0.85 * (candidates - false_pairs.size()));
+  const auto status = rrr_test::Status();
+  EXPECT_EQ(status.invalid_messages, 0u);
+  EXPECT_EQ(status.skipped_unknown_poses, 0u);  // every stamp resolved
+  EXPECT_EQ(status.odometry_information_from_covariance,
+            static_cast<uint64_t>(w.graph.num_poses() - 1));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "simulated_robot_test");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
