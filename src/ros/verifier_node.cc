@@ -428,6 +428,9 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
     map_.push_back(pose);
   } else {
     const Pose motion = keyframe_odom_.back().between(pose);
+    if (!motion.Log().allFinite()) {
+      return Invalid(what, "the motion from the last keyframe is not finite");
+    }
     const bool every =
         options_.keyframe_translation == 0 && options_.keyframe_rotation == 0;
     if (!every &&
@@ -655,8 +658,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
         break;
     }
   }
-  status_.waiting =
-      verifier_->num_waiting() + static_cast<uint32_t>(stamped_waiting_.size());
+  status_.waiting_by_stamp = static_cast<uint32_t>(stamped_waiting_.size());
+  status_.waiting = verifier_->num_waiting() + status_.waiting_by_stamp;
   status_.clusters = verifier_->num_clusters();
   status_.noise_scale = verifier_->noise_scale();
   status_.noise_scale_source = verifier_->noise_scale_source();

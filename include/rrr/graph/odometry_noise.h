@@ -40,7 +40,10 @@ class OdometryNoiseModel {
 
   // The information of the edge from keyframe `from` to keyframe `to` (their
   // poses in the odometry frame), with their reported covariances if
-  // `covariances` is true. Sets `*source` if given.
+  // `covariances` is true. Sets `*source` if given. The result is symmetric
+  // positive definite whenever the motion between the poses is finite: a
+  // change of covariance that is not (numerically) positive definite falls
+  // back to the motion rule.
   Information EdgeInformation(const Pose& from,
                               const OdometryCovariance& from_cov,
                               const Pose& to, const OdometryCovariance& to_cov,
@@ -57,7 +60,7 @@ class OdometryNoiseModel {
                                  const Information& information);
 
  private:
-  Information per_unit_covariance_;
+  Information per_unit_;  // the information of one unit of motion
   double min_motion_;
 };
 

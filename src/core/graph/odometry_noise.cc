@@ -28,13 +28,24 @@ Eigen::Matrix<double, 6, 6> Select(const Pose3& pose) {
   return s;
 }
 
+// Covariances less well conditioned than this have no usable inverse.
+constexpr double kMinReciprocalCondition = 1e-14;
+
+// The inverse of `covariance` if it is positive definite and the inverse is
+// too (finite, numerically invertible); false otherwise.
 template <class M>
 bool Invert(const M& covariance, M* information) {
   const Eigen::LLT<M> llt(covariance);
-  if (llt.info() != Eigen::Success) return false;
-  *information = llt.solve(M::Identity());
-  *information = 0.5 * (*information + information->transpose());
-  return information->allFinite();
+  if (llt.info() != Eigen::Success || llt.rcond() < kMinReciprocalCondition) {
+    return false;
+  }
+  const M inverse = llt.solve(M::Identity());
+  const M symmetric = 0.5 * (inverse + inverse.transpose());
+  if (!symmetric.allFinite() || symmetric.llt().info() != Eigen::Success) {
+    return false;
+  }
+  *information = symmetric;
+  return true;
 }
 
 }  // namespace
@@ -42,17 +53,16 @@ bool Invert(const M& covariance, M* information) {
 template <class Pose>
 OdometryNoiseModel<Pose>::OdometryNoiseModel(const Information& per_unit,
                                              double min_motion)
-    : per_unit_covariance_(per_unit.ldlt().solve(Information::Identity())),
-      min_motion_(min_motion) {}
+    : per_unit_(per_unit), min_motion_(min_motion) {}
 
 template <class Pose>
 typename OdometryNoiseModel<Pose>::Information
 OdometryNoiseModel<Pose>::FromMotion(const Pose& motion) const {
+  // The covariance per unit times the amount, inverted; stableNorm keeps a
+  // long motion from overflowing.
   const double amount =
-      std::max(motion.translation().norm() + motion.angle(), min_motion_);
-  Information information;
-  Invert<Information>(amount * per_unit_covariance_, &information);
-  return information;
+      std::max(motion.translation().stableNorm() + motion.angle(), min_motion_);
+  return per_unit_ / amount;
 }
 
 template <class Pose>

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 
@@ -63,6 +65,35 @@ TYPED_TEST(OdometryNoiseTest, AConstantCovarianceFallsBackToTheMotion) {
   EXPECT_EQ(source, Model::Source::kMotion);
   // Standing still: at least min_motion.
   EXPECT_LT((model.FromMotion(TypeParam()) - per_unit / 0.05).norm(), 1e-6);
+}
+
+TYPED_TEST(OdometryNoiseTest, ANumericallySingularChangeFallsBackToTheMotion) {
+  // A change that passes a Cholesky test but whose inverse overflows.
+  using Model = OdometryNoiseModel<TypeParam>;
+  const auto per_unit = Constraint<TypeParam>::Information::Identity() * 100.0;
+  const Model model(per_unit, 0.05);
+  const OdometryCovariance grown = OdometryCovariance::Identity() * 1e-310;
+  typename TypeParam::Tangent xi = TypeParam::Tangent::Zero();
+  xi[0] = 2.0;
+  typename Model::Source source;
+  const auto information =
+      model.EdgeInformation(TypeParam(), OdometryCovariance::Identity(),
+                            TypeParam::Exp(xi), grown, true, &source);
+  EXPECT_EQ(source, Model::Source::kMotion);
+  EXPECT_TRUE(information.allFinite());
+  EXPECT_EQ(information.llt().info(), Eigen::Success);
+}
+
+TYPED_TEST(OdometryNoiseTest, AVeryLongMotionStillHasFiniteInformation) {
+  using Model = OdometryNoiseModel<TypeParam>;
+  // Found by fuzzing the message conversion: the motion rule's length
+  // overflowed and the information was left unset.
+  const Model model(Constraint<TypeParam>::Information::Identity(), 0.05);
+  typename TypeParam::Tangent xi = TypeParam::Tangent::Zero();
+  xi[0] = 1e200;  // its squared length overflows
+  const auto information = model.FromMotion(TypeParam::Exp(xi));
+  EXPECT_TRUE(information.allFinite());
+  EXPECT_GT(information(0, 0), 0.0);
 }
 
 TEST(OdometryNoise, AShrinkingOrBrokenCovarianceFallsBackToTheMotion) {

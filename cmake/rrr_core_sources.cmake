@@ -1,0 +1,38 @@
+# The sources of the core library (no ROS), relative to the package root:
+# built by CMakeLists.txt and, instrumented, by fuzz/CMakeLists.txt.
+set(RRR_CORE_SOURCES
+  src/core/geometry/pose2.cc
+  src/core/geometry/pose3.cc
+  src/core/graph/pose_graph.cc
+  src/core/io/g2o.cc
+  src/core/io/text_fields.cc
+  src/core/eval/trajectory_error.cc
+  src/core/eval/loop_scores.cc
+  src/core/eval/ground_truth.cc
+  src/core/sim/false_loops.cc
+  src/core/sim/grid_world.cc
+  src/core/solver/block_cholesky.cc
+  src/core/graph/candidate_defect.cc
+  src/core/graph/odometry_chain.cc
+  src/core/graph/odometry_noise.cc
+  src/core/solver/local_problem.cc
+  src/core/solver/condensed_solve.cc
+  src/core/solver/gauss_newton.cc
+  src/core/solver/solve_in_parallel.cc
+  src/core/robust/reweighted_solve.cc
+  src/core/robust/dcs.cc
+  src/core/robust/gnc_tls.cc
+  src/core/robust/pcm.cc
+  src/core/rrr/chi_square.cc
+  src/core/rrr/clustering.cc
+  src/core/rrr/consistency_tests.cc
+  src/core/rrr/maintained_map.cc
+  src/core/rrr/map_verifier.cc
+  src/core/rrr/noise_scale.cc
+  src/core/rrr/options.cc
+  src/core/rrr/batch_verifier.cc
+  src/core/rrr/online_verifier.cc
+  src/core/rrr/incremental_verifier.cc
+  src/core/session/sqlite_db.cc
+  src/core/session/session_store.cc
+)

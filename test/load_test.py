@@ -1,0 +1,187 @@
+"""rrr_node under load, through a real rosmaster.
+
+A flood: 100,000 loop candidates as fast as a publisher can send them, mixed
+from every kind a misbehaving front-end sends, beside 100 Hz odometry. The
+node's resident memory stays under MEMORY_BOUND_MB and ~get_status accounts
+for every message: received = processed + refused, and every candidate is a
+candidate, waiting, invalid, skipped or refused under its reason.
+
+A fast replay: a bag played at 100 times its speed loses no input and gives
+the decisions of rrr verify; on a generated world always, and on Bicocca 25b
+(0.150) when the datasets are there (RRR_DATASETS, default
+../shared/datasets).
+"""
+import json
+import os
+import pathlib
+import re
+import subprocess
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+import ros_processes  # noqa: E402
+
+BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
+RRR = BUILD / "devel" / "lib" / "rrr_slam" / "rrr"
+DATASETS = pathlib.Path(os.environ.get("RRR_DATASETS", ROOT.parent / "shared" / "datasets"))
+MEMORY_BOUND_MB = 200.0  # README, "Limits"
+FLOOD_CANDIDATES = 100000
+
+
+class Ros:
+    """A rosmaster and rrr_node (rrr.launch with `arguments`) in `tmp_path`."""
+
+    def __init__(self, tmp_path, *arguments):
+        port = ros_processes.free_port()
+        self.env = ros_processes.ros_env(BUILD, port, tmp_path)
+        self.log = open(tmp_path / "ros.log", "w")
+        self.master = ros_processes.start(["roscore", "-p", port], self.env, self.log)
+        self.launch = ros_processes.start(["roslaunch", "--wait", "rrr_slam", "rrr.launch",
+                                           "output:=log", *arguments], self.env, self.log)
+        self.pid = ros_processes.node_pid(self.launch)
+        ros_processes.wait_for(self.status, 60, "~get_status")
+
+    def status(self):
+        return ros_processes.service(self.env, "/rrr_node/get_status", timeout=60)
+
+    def close(self):
+        ros_processes.stop(self.launch)
+        ros_processes.stop(self.master)
+        self.log.close()
+
+
+@pytest.fixture
+def ros_factory(tmp_path):
+    started = []
+
+    def make(*arguments):
+        started.append(Ros(tmp_path, *arguments))
+        return started[-1]
+    yield make
+    for ros in started:
+        ros.close()
+
+
+def number(fields, *names):
+    return sum(int(fields[name]) for name in names)
+
+
+def flood(ros):
+    """Runs test/flood_publisher.py against `ros`'s node until the node has
+    taken in everything; returns (what was sent, final status, peak MB)."""
+    published = subprocess.run([sys.executable, ROOT / "test" / "flood_publisher.py",
+                                str(FLOOD_CANDIDATES), "100"], env=ros.env,
+                               capture_output=True, text=True, timeout=1200)
+    assert published.returncode == 0, published.stderr
+    sent = json.loads(published.stdout.splitlines()[-1])
+    peak = 0.0
+
+    def drained():
+        nonlocal peak
+        peak = max(peak, ros_processes.resident_mb(ros.pid)[1])
+        s = ros.status()
+        return s if s and s["queue_length"] == "0" and number(
+            s, "odometry_received", "loop_closures_received") == number(
+            s, "inputs_processed", "inputs_refused") else None
+    final = ros_processes.wait_for(drained, 900, "the node to take in the flood", period=2)
+    peak = max(peak, ros_processes.resident_mb(ros.pid)[1])
+    print(f"flood: {sent}, peak resident memory {peak:.1f} MB, status {final}")
+    # Nothing lost between the publisher and the node, or inside it.
+    assert int(final["odometry_received"]) == sent["odometry"]
+    assert int(final["loop_closures_received"]) == sent["loop_closures"]
+    assert int(final["inputs_dropped"]) == 0
+    return sent, final, peak
+
+
+def test_a_flood_is_bounded_in_memory_and_every_message_is_accounted_for(ros_factory):
+    sent, final, peak = flood(ros_factory())
+    assert peak <= MEMORY_BOUND_MB
+    # With the default queue limit nothing is refused at the queue, and every
+    # candidate message is under one heading: a candidate (judged or waiting
+    # by id), waiting by stamp, invalid, skipped or refused by a bound.
+    assert int(final["inputs_refused"]) == 0
+    assert int(final["keyframes"]) == sent["odometry"]
+    assert number(final, "candidates", "waiting_by_stamp", "invalid_messages",
+                  "skipped_self_loops", "skipped_consecutive_poses", "skipped_duplicates",
+                  "skipped_unknown_poses", "refused_too_far_ahead",
+                  "refused_waiting_full") == sent["loop_closures"]
+    # Each kind of the flood was seen and counted under its reason.
+    for name in ("invalid_messages", "skipped_self_loops", "skipped_consecutive_poses",
+                 "refused_too_far_ahead", "refused_waiting_full", "waiting_by_stamp"):
+        assert int(final[name]) > 0, name
+    assert int(final["waiting_by_stamp"]) <= 10000  # max_waiting
+
+
+def test_a_flood_past_the_queue_limit_is_refused_and_counted(ros_factory, tmp_path):
+    config = tmp_path / "rrr.yaml"
+    config.write_text(re.sub(r"(?m)^max_queue_length: .*$", "max_queue_length: 100",
+                             (ROOT / "config" / "rrr.yaml").read_text()))
+    sent, final, peak = flood(ros_factory(f"config:={config}"))
+    assert peak <= MEMORY_BOUND_MB
+    assert int(final["max_queue_length"]) <= 100
+    assert int(final["inputs_refused"]) > 0
+    # received = processed + refused (checked when drained) and each kept
+    # keyframe or candidate is one that was not refused.
+    assert int(final["keyframes"]) <= sent["odometry"]
+
+
+def report_pairs(report):
+    return {tuple(p) for p in json.loads(pathlib.Path(report).read_text())["accepted"]}
+
+
+def g2o_loop_pairs(g2o):
+    pairs = set()
+    for line in pathlib.Path(g2o).read_text().splitlines():
+        fields = line.split()
+        if fields and fields[0].startswith("EDGE") and abs(int(fields[1]) - int(fields[2])) != 1:
+            pairs.add((int(fields[1]), int(fields[2])))
+    return pairs
+
+
+def worlds():
+    yield pytest.param("simulated", id="simulated")
+    bicocca = DATASETS / "bicocca25b" / "B25b_0.150.g2o"
+    yield pytest.param(bicocca, id="bicocca_0.150", marks=pytest.mark.skipif(
+        not bicocca.exists(), reason=f"Bicocca 25b not found at {bicocca} (set RRR_DATASETS)"))
+
+
+@pytest.mark.parametrize("source", worlds())
+def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_path):
+    graph, window = tmp_path / "world.g2o", 10
+    if source == "simulated":
+        subprocess.run([RRR, "simulate", "--poses", "3000", "--false-loops", "60", "--group", "3",
+                        "--seed", "5", "-o", graph, "-t", tmp_path / "false.txt",
+                        "--ground-truth", tmp_path / "truth.g2o"], check=True, capture_output=True)
+    else:
+        graph, window = source, 50
+    subprocess.run([RRR, "verify", graph, "-w", str(window), "-o", tmp_path / "verified.g2o",
+                    "-r", tmp_path / "report.json"], check=True, capture_output=True)
+    bag = tmp_path / "world.bag"
+    subprocess.run([RRR, "to-bag", graph, "--rate", "100", "-o", bag], check=True,
+                   capture_output=True)
+    lines = pathlib.Path(graph).read_text().splitlines()
+    poses = sum(1 for line in lines if line.startswith("VERTEX"))
+    candidates = sum(1 for line in lines if line.startswith("EDGE")) - (poses - 1)
+
+    ros = ros_factory(f"cluster_window:={window}")
+    play = subprocess.run(["rosbag", "play", "--quiet", "-r", "100", bag], env=ros.env,
+                          capture_output=True, text=True, timeout=600)
+    assert play.returncode == 0, play.stderr
+    final = ros_processes.wait_for(
+        lambda: (lambda s: s if s and s["queue_length"] == "0" and number(
+            s, "odometry_received", "loop_closures_received") == poses + candidates
+            else None)(ros.status()), 300, "every input of the bag")
+    saved = tmp_path / "node.g2o"
+    ros_processes.service(ros.env, "/rrr_node/finish")
+    ros_processes.service(ros.env, "/rrr_node/save_graph",
+                          f"{{path: '{saved}', with_candidates: false}}")
+    final = ros.status()
+    print(f"replay at 100x: {poses} keyframes, {candidates} candidates, status {final}")
+    assert number(final, "inputs_refused", "inputs_dropped", "invalid_messages") == 0
+    assert int(final["keyframes"]) == poses
+    assert int(final["candidates"]) == candidates
+    # The node's accepted graph holds exactly rrr verify's accepted loops.
+    assert g2o_loop_pairs(saved) == report_pairs(tmp_path / "report.json")
