@@ -9,6 +9,9 @@ import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+import ros_processes  # noqa: E402
+
 RRR = ROOT / "_build" / "devel" / "lib" / "rrr_slam" / "rrr"
 
 
@@ -133,26 +136,10 @@ def write_with_loops(src, dst, wanted):
 
 def ros_env(port):
     """The environment of the package's devel space with a master on `port`."""
-    env = dict(os.environ)
-    env.update(ROS_MASTER_URI=f"http://localhost:{port}", ROS_HOSTNAME="localhost",
-               ROS_HOME=env.get("ROS_HOME", "/tmp/rrr_ros_home"),
-               PATH="/usr/bin:" + env.get("PATH", ""))
-    setup = ROOT / "_build" / "devel" / "setup.bash"
-    out = subprocess.run(["bash", "-c", f"source {setup} && env -0"], env=env,
-                         capture_output=True, text=True, check=True).stdout
-    return dict(line.split("=", 1) for line in out.split("\0") if "=" in line)
+    return ros_processes.ros_env(ROOT / "_build", port)
 
 
-def service(env, name, request="{}"):
-    """Calls a ROS service; returns its response fields as strings."""
-    out = subprocess.run(["rosservice", "call", name, request], env=env,
-                         capture_output=True, text=True, timeout=600).stdout
-    values = {}
-    for line in out.splitlines():
-        if ":" in line:
-            key, value = line.split(":", 1)
-            values[key.strip()] = value.strip().strip('"')
-    return values
+service = ros_processes.service
 
 
 def graph_size(path):

@@ -20,32 +20,15 @@ import argparse
 import csv
 import json
 import math
-import os
 import pathlib
 import shutil
-import signal
 import subprocess
-import sys
 import threading
-import time
 
 import common
+import ros_processes
 
 SAMPLER = common.ROOT / "bench" / "status_sampler.py"
-
-
-def node_pid(launch):
-    """The pid of the rrr_node that `launch` started (waits for it)."""
-    for _ in range(120):
-        out = subprocess.run(["pgrep", "-f", "-P", str(launch.pid), "rrr_node"],
-                             capture_output=True, text=True).stdout.split()
-        if not out:
-            out = subprocess.run(["pgrep", "-f", "lib/rrr_slam/rrr_node"],
-                                 capture_output=True, text=True).stdout.split()
-        if out:
-            return int(out[0])
-        time.sleep(0.5)
-    sys.exit("rrr_node did not start")
 
 
 def growth(samples, min_keyframes, bin_size=1000):
@@ -80,7 +63,7 @@ def replay(procedure, bag, graph_info, window, limit, port, out):
         env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     samples, complete, accepted, final = [], False, None, {}
     try:
-        pid = node_pid(launch)
+        pid = ros_processes.node_pid(launch)
         sampler = subprocess.Popen(["/usr/bin/python3", str(SAMPLER), str(pid), "1.0", str(limit)],
                                    env=env, stdout=subprocess.PIPE, text=True)
         # A service call can block while the node is inside a long update:
@@ -117,18 +100,11 @@ def replay(procedure, bag, graph_info, window, limit, port, out):
             except (subprocess.TimeoutExpired, OSError) as error:
                 print(f"{procedure}: the final services failed: {error}", flush=True)
         try:
-            with open(f"/proc/{pid}/status") as f:
-                peak = [line.split()[1] for line in f if line.startswith("VmHWM")]
-            final["peak_rss_mb"] = int(peak[0]) / 1024.0
+            final["peak_rss_mb"] = ros_processes.resident_mb(pid)[1]
         except OSError:
             pass
     finally:
-        os.killpg(launch.pid, signal.SIGINT)
-        try:
-            launch.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            os.killpg(launch.pid, signal.SIGKILL)
-            launch.wait()
+        ros_processes.stop(launch)
     return samples, final, complete, accepted
 
 

@@ -7,21 +7,15 @@ environment (bench/node_scaling.py does).
     bench/status_sampler.py PID [PERIOD] [SECONDS]
 """
 import json
+import pathlib
 import sys
 import time
 
 import rospy
 from rrr_slam.srv import GetStatus
 
-
-def resident_mb(pid):
-    """(current, peak) resident memory of process `pid` in MB."""
-    fields = {}
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            key, _, value = line.partition(":")
-            fields[key] = value.split()
-    return int(fields["VmRSS"][0]) / 1024.0, int(fields["VmHWM"][0]) / 1024.0
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "scripts"))
+import ros_processes  # noqa: E402
 
 
 def main():
@@ -33,7 +27,7 @@ def main():
     while time.time() - start < limit:
         try:
             status = get_status()
-            rss, peak = resident_mb(pid)
+            rss, peak = ros_processes.resident_mb(pid)
         except (rospy.ServiceException, OSError):
             break
         sample = {slot: getattr(status, slot) for slot in status.__slots__}

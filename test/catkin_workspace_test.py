@@ -5,21 +5,15 @@
 Runs in a clean environment (nothing of the package's own build sourced), so
 only the workspace can provide `rrr_slam`.
 """
-import os
 import pathlib
-import signal
-import socket
 import subprocess
+import sys
 import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("localhost", 0))
-        return s.getsockname()[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+from ros_processes import free_port, stop  # noqa: E402
 
 
 def in_workspace(workspace, command, space=None, timeout=1800, check=True):
@@ -76,8 +70,4 @@ def test_catkin_make_install_and_launch_from_the_install_space():
             assert status is not None and status.returncode == 0, status.stderr
             assert "keyframes: 0" in status.stdout
         finally:
-            os.killpg(launch.pid, signal.SIGINT)
-            try:
-                launch.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(launch.pid, signal.SIGKILL)
+            stop(launch)

@@ -23,10 +23,10 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 import ros_processes  # noqa: E402
+from world_files import generated_and_bicocca, loop_pairs  # noqa: E402
 
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
 RRR = BUILD / "devel" / "lib" / "rrr_slam" / "rrr"
-DATASETS = pathlib.Path(os.environ.get("RRR_DATASETS", ROOT.parent / "shared" / "datasets"))
 MEMORY_BOUND_MB = 200.0  # README, "Limits"
 FLOOD_CANDIDATES = 100000
 
@@ -132,23 +132,7 @@ def report_pairs(report):
     return {tuple(p) for p in json.loads(pathlib.Path(report).read_text())["accepted"]}
 
 
-def g2o_loop_pairs(g2o):
-    pairs = set()
-    for line in pathlib.Path(g2o).read_text().splitlines():
-        fields = line.split()
-        if fields and fields[0].startswith("EDGE") and abs(int(fields[1]) - int(fields[2])) != 1:
-            pairs.add((int(fields[1]), int(fields[2])))
-    return pairs
-
-
-def worlds():
-    yield pytest.param("simulated", id="simulated")
-    bicocca = DATASETS / "bicocca25b" / "B25b_0.150.g2o"
-    yield pytest.param(bicocca, id="bicocca_0.150", marks=pytest.mark.skipif(
-        not bicocca.exists(), reason=f"Bicocca 25b not found at {bicocca} (set RRR_DATASETS)"))
-
-
-@pytest.mark.parametrize("source", worlds())
+@pytest.mark.parametrize("source", generated_and_bicocca())
 def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_path):
     graph, window = tmp_path / "world.g2o", 10
     if source == "simulated":
@@ -167,7 +151,8 @@ def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_
     candidates = sum(1 for line in lines if line.startswith("EDGE")) - (poses - 1)
 
     ros = ros_factory(f"cluster_window:={window}")
-    play = subprocess.run(["rosbag", "play", "--quiet", "-r", "100", bag], env=ros.env,
+    play = subprocess.run(["rosbag", "play", "--quiet", "--wait-for-subscribers", "-r", "100",
+                           bag], env=ros.env,
                           capture_output=True, text=True, timeout=600)
     assert play.returncode == 0, play.stderr
     final = ros_processes.wait_for(
@@ -184,4 +169,4 @@ def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_
     assert int(final["keyframes"]) == poses
     assert int(final["candidates"]) == candidates
     # The node's accepted graph holds exactly rrr verify's accepted loops.
-    assert g2o_loop_pairs(saved) == report_pairs(tmp_path / "report.json")
+    assert loop_pairs(saved) == report_pairs(tmp_path / "report.json")

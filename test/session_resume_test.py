@@ -10,53 +10,23 @@ import json
 import os
 import pathlib
 import signal
-import socket
 import subprocess
-import time
+import sys
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+from ros_processes import free_port, node_pid, ros_env, service, stop, wait_for  # noqa: E402
+from world_files import generated_and_bicocca, loop_pairs  # noqa: E402
+
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
 RRR = BUILD / "devel" / "lib" / "rrr_slam" / "rrr"
-DATASETS = pathlib.Path(os.environ.get("RRR_DATASETS", ROOT.parent / "shared" / "datasets"))
 RATE = 100.0  # odometry messages per second in the bag
 
 
-def ros_env(port, home):
-    env = {"PATH": "/usr/bin:/bin", "HOME": str(home), "ROS_HOME": str(home),
-           "ROS_HOSTNAME": "localhost", "ROS_MASTER_URI": f"http://localhost:{port}"}
-    out = subprocess.run(["bash", "-c", f"source {BUILD / 'devel' / 'setup.bash'} && env -0"],
-                         env=env, capture_output=True, text=True, check=True).stdout
-    return dict(line.split("=", 1) for line in out.split("\0") if "=" in line)
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("localhost", 0))
-        return s.getsockname()[1]
-
-
 def status(env):
-    """~get_status as a dict of strings ({} while the node is not there)."""
-    out = subprocess.run(["rosservice", "call", "/rrr_node/get_status"], env=env,
-                         capture_output=True, text=True, timeout=60)
-    fields = {}
-    for line in out.stdout.splitlines():
-        if ":" in line and not line.startswith(" "):
-            key, value = line.split(":", 1)
-            fields[key.strip()] = value.strip().strip('"')
-    return fields
-
-
-def wait_for(condition, seconds, what):
-    deadline = time.time() + seconds
-    while time.time() < deadline:
-        value = condition()
-        if value:
-            return value
-        time.sleep(0.5)
-    raise AssertionError(f"timed out waiting for {what}")
+    return service(env, "/rrr_node/get_status", timeout=60)
 
 
 def start_node(env, database, window, log):
@@ -66,32 +36,7 @@ def start_node(env, database, window, log):
         start_new_session=True)
 
 
-def node_pid(launch):
-    def find():
-        out = subprocess.run(["pgrep", "-P", str(launch.pid), "-f", "rrr_node"],
-                             capture_output=True, text=True).stdout.split()
-        return int(out[0]) if out else None
-    return wait_for(find, 60, "rrr_node to start")
-
-
-def loop_pairs(g2o):
-    pairs = set()
-    with open(g2o) as f:
-        for line in f:
-            fields = line.split()
-            if fields and fields[0].startswith("EDGE") and abs(int(fields[1]) - int(fields[2])) != 1:
-                pairs.add((int(fields[1]), int(fields[2])))
-    return pairs
-
-
-def worlds():
-    yield pytest.param("simulated", id="simulated")
-    bicocca = DATASETS / "bicocca25b" / "B25b_0.150.g2o"
-    yield pytest.param(bicocca, id="bicocca_0.150", marks=pytest.mark.skipif(
-        not bicocca.exists(), reason=f"Bicocca 25b not found at {bicocca} (set RRR_DATASETS)"))
-
-
-@pytest.mark.parametrize("source", worlds())
+@pytest.mark.parametrize("source", generated_and_bicocca())
 def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, tmp_path):
     graph = tmp_path / "world.g2o"
     window = 10
@@ -111,7 +56,7 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
     poses = sum(1 for line in graph.read_text().splitlines() if line.startswith("VERTEX"))
 
     port = free_port()
-    env = ros_env(port, tmp_path)
+    env = ros_env(BUILD, port, tmp_path)
     database = tmp_path / "session.db"
     log = open(tmp_path / "ros.log", "w")
     master = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log,
@@ -121,7 +66,8 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         launch = start_node(env, database, window, log)
         pid = node_pid(launch)
         wait_for(lambda: status(env), 60, "~get_status")
-        player = subprocess.Popen(["rosbag", "play", "--quiet", bag], env=env, stdout=log,
+        player = subprocess.Popen(["rosbag", "play", "--quiet", "--wait-for-subscribers", bag],
+                                  env=env, stdout=log,
                                   stderr=subprocess.STDOUT, start_new_session=True)
         # Kill it in the middle of the replay, then stop the bag.
         wait_for(lambda: int(status(env).get("keyframes", 0)) >= poses // 2, 120,
@@ -135,30 +81,26 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         node_pid(launch)
         resumed = wait_for(lambda: status(env), 120, "the restarted node")
         keyframes = int(resumed["resumed_keyframes"])
-        assert poses // 4 < keyframes < poses
+        assert poses // 4 < keyframes < poses, resumed
         assert resumed["database"] == str(database)
         # Play on from the last recorded keyframe (pose k is at 1 + k / RATE).
         start = (keyframes - 1) / RATE - 0.5 / RATE
-        player = subprocess.Popen(["rosbag", "play", "--quiet", "-s", f"{start:.6f}", bag],
+        player = subprocess.Popen(["rosbag", "play", "--quiet", "--wait-for-subscribers",
+                                   "-s", f"{start:.6f}", bag],
                                   env=env, stdout=log, stderr=subprocess.STDOUT,
                                   start_new_session=True)
-        assert player.wait(timeout=300) == 0
+        assert player.wait(timeout=300) == 0, (tmp_path / "ros.log").read_text()[-3000:]
         final = wait_for(lambda: (lambda s: s if s.get("keyframes") == str(poses)
                                   and s.get("queue_length") == "0" else None)(status(env)),
                          120, "every keyframe")
         subprocess.run(["rosservice", "call", "/rrr_node/finish"], env=env, check=True,
                        capture_output=True, timeout=300)
         # Only the last recorded keyframe and the candidates at its stamp come again.
-        assert int(final["inputs_already_recorded"]) <= 1
-        assert int(final["inputs_dropped"]) == 0 and int(final["invalid_messages"]) == 0
+        assert int(final["inputs_already_recorded"]) <= 1, final
+        assert int(final["inputs_dropped"]) == 0 and int(final["invalid_messages"]) == 0, final
     finally:
         for process in (player, launch, master):
-            if process and process.poll() is None:
-                os.killpg(process.pid, signal.SIGINT)
-                try:
-                    process.wait(timeout=30)
-                except subprocess.TimeoutExpired:
-                    os.killpg(process.pid, signal.SIGKILL)
+            stop(process)
         log.close()
 
     exported = tmp_path / "exported.g2o"
