@@ -9,6 +9,7 @@
 #include <fstream>
 #include <future>
 
+#include "graph_messages.h"
 #include "msg_conversion.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/incremental_verifier.h"
@@ -20,38 +21,9 @@
 namespace rrr_ros {
 namespace {
 
-constexpr int kQueueSize = 10000;  // ROS subscriber queues; ours is unbounded
+constexpr int kQueueSize =
+    10000;  // ROS subscriber queues (ours: max_queue_length)
 constexpr double kPublishPeriod = 0.2;  // s between path/marker refreshes
-
-uint8_t ToMsg(rrr::LoopState s) {
-  switch (s) {
-    case rrr::LoopState::kAccepted:
-      return rrr_slam::LoopDecision::ACCEPTED;
-    case rrr::LoopState::kRejected:
-      return rrr_slam::LoopDecision::REJECTED;
-    case rrr::LoopState::kPending:
-      break;
-  }
-  return rrr_slam::LoopDecision::PENDING;
-}
-
-template <class Pose>
-rrr_slam::GraphEdge EdgeMsg(const rrr::PoseGraph<Pose>& g,
-                            const rrr::Constraint<Pose>& e) {
-  rrr_slam::GraphEdge out;
-  out.from_id = g.ids()[e.from];
-  out.to_id = g.ids()[e.to];
-  out.relative_pose = ToRos(e.measurement);
-  for (int r = 0; r < Pose::kDof; ++r) {
-    for (int c = 0; c < Pose::kDof; ++c)
-      out.information.push_back(e.information(r, c));
-  }
-  return out;
-}
-
-geometry_msgs::Point PointOf(const geometry_msgs::Pose& p) {
-  return p.position;
-}
 
 // Why a message in `frame` is not in the expected frame `name` (the `role`
 // frame), or "" if it is; an empty frame is taken as the expected one.
@@ -692,117 +664,24 @@ void VerifierNode<Pose>::RecomputeMap() {
 template <class Pose>
 void VerifierNode<Pose>::PublishDecisions(
     const std::vector<rrr::DecisionChange>& changes) {
-  rrr_slam::Decisions msg;
-  msg.header.stamp = ros::Time::now();
-  msg.header.frame_id = options_.map_frame;
-  std::vector<int> previous(verifier_->num_candidates(), -1);
-  for (const auto& c : changes)
-    previous[c.candidate] = static_cast<int>(c.previous);
-  for (int c = 0; c < verifier_->num_candidates(); ++c) {
-    rrr_slam::LoopDecision d;
-    d.candidate = c;
-    std::tie(d.from_id, d.to_id) = verifier_->ends_of(c);
-    d.state = ToMsg(verifier_->state(c));
-    d.cluster = verifier_->cluster_of(c);
-    d.waiting = verifier_->loop_of(c) < 0;
-    d.previous_state = previous[c] < 0
-                           ? d.state
-                           : ToMsg(static_cast<rrr::LoopState>(previous[c]));
-    d.reversed = previous[c] >= 0 &&
-                 previous[c] != static_cast<int>(rrr::LoopState::kPending);
-    if (previous[c] >= 0) msg.changed.push_back(c);
-    msg.accepted += d.state == rrr_slam::LoopDecision::ACCEPTED;
-    msg.rejected += d.state == rrr_slam::LoopDecision::REJECTED;
-    msg.pending += d.state == rrr_slam::LoopDecision::PENDING;
-    msg.decisions.push_back(d);
-  }
-  decision_pub_.publish(msg);
+  decision_pub_.publish(DecisionsMsg(*verifier_, changes, options_.map_frame));
   published_candidates_ = verifier_->num_candidates();
 }
 
 template <class Pose>
 void VerifierNode<Pose>::PublishPath() {
-  nav_msgs::Path path;
-  path.header.stamp =
-      keyframe_stamps_.empty() ? ros::Time::now() : keyframe_stamps_.back();
-  path.header.frame_id = options_.map_frame;
-  for (size_t k = 0; k < map_.size(); ++k) {
-    geometry_msgs::PoseStamped p;
-    p.header.stamp = keyframe_stamps_[k];
-    p.header.frame_id = options_.map_frame;
-    p.pose = ToRos(map_[k]);
-    path.poses.push_back(p);
-  }
-  path_pub_.publish(path);
+  path_pub_.publish(PathMsg(map_, keyframe_stamps_, options_.map_frame));
 }
 
 template <class Pose>
 void VerifierNode<Pose>::PublishMarkers() {
-  visualization_msgs::MarkerArray array;
-  const auto make = [this](const std::string& ns, int type, float r, float g,
-                           float b, double width) {
-    visualization_msgs::Marker m;
-    m.header.frame_id = options_.map_frame;
-    m.header.stamp = ros::Time::now();
-    m.ns = ns;
-    m.id = 0;
-    m.type = type;
-    m.action = visualization_msgs::Marker::ADD;
-    m.pose.orientation.w = 1.0;
-    m.scale.x = width;
-    m.scale.y = width;
-    m.color.r = r;
-    m.color.g = g;
-    m.color.b = b;
-    m.color.a = 1.0;
-    return m;
-  };
-  auto odometry = make("odometry", visualization_msgs::Marker::LINE_STRIP, 0.2f,
-                       0.4f, 1.0f, 0.05);
-  auto poses =
-      make("poses", visualization_msgs::Marker::POINTS, 0.1f, 0.1f, 0.6f, 0.08);
-  auto accepted = make("accepted", visualization_msgs::Marker::LINE_LIST, 0.0f,
-                       0.9f, 0.0f, 0.4);
-  auto rejected = make("rejected", visualization_msgs::Marker::LINE_LIST, 0.9f,
-                       0.0f, 0.0f, 0.04);
-  auto pending = make("pending", visualization_msgs::Marker::LINE_LIST, 1.0f,
-                      0.85f, 0.0f, 0.06);
-  for (const Pose& p : map_) {
-    odometry.points.push_back(PointOf(ToRos(p)));
-    poses.points.push_back(PointOf(ToRos(p)));
-  }
-  const auto& graph = verifier_->graph();
-  for (int c = 0; c < verifier_->num_candidates(); ++c) {
-    const int loop = verifier_->loop_of(c);
-    if (loop < 0) continue;
-    const auto& e = graph.loops()[loop];
-    auto& list = verifier_->state(c) == rrr::LoopState::kAccepted   ? accepted
-                 : verifier_->state(c) == rrr::LoopState::kRejected ? rejected
-                                                                    : pending;
-    list.points.push_back(PointOf(ToRos(map_[e.from])));
-    list.points.push_back(PointOf(ToRos(map_[e.to])));
-  }
-  for (auto* m : {&odometry, &poses, &accepted, &rejected, &pending}) {
-    // An empty list is sent as DELETE, which clears an old one.
-    if (m->points.empty()) m->action = visualization_msgs::Marker::DELETE;
-    array.markers.push_back(*m);
-  }
-  marker_pub_.publish(array);
+  marker_pub_.publish(GraphMarkers(*verifier_, map_, options_.map_frame));
 }
 
 template <class Pose>
 void VerifierNode<Pose>::PublishAcceptedGraph() {
-  rrr_slam::AcceptedGraph msg;
-  msg.header.stamp = ros::Time::now();
-  msg.header.frame_id = options_.map_frame;
-  const auto& graph = verifier_->graph();
-  msg.ids = graph.ids();
-  for (const Pose& p : map_) msg.poses.push_back(ToRos(p));
-  for (const auto& e : graph.odometry())
-    msg.odometry.push_back(EdgeMsg(graph, e));
-  for (const int k : last_accepted_)
-    msg.loops.push_back(EdgeMsg(graph, graph.loops()[k]));
-  graph_pub_.publish(msg);
+  graph_pub_.publish(
+      AcceptedGraphMsg(*verifier_, map_, last_accepted_, options_.map_frame));
 }
 
 template class VerifierNode<rrr::Pose2>;

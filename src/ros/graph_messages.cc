@@ -1,0 +1,176 @@
+#include "graph_messages.h"
+
+#include "msg_conversion.h"
+
+namespace rrr_ros {
+namespace {
+
+uint8_t ToMsg(rrr::LoopState s) {
+  switch (s) {
+    case rrr::LoopState::kAccepted:
+      return rrr_slam::LoopDecision::ACCEPTED;
+    case rrr::LoopState::kRejected:
+      return rrr_slam::LoopDecision::REJECTED;
+    case rrr::LoopState::kPending:
+      break;
+  }
+  return rrr_slam::LoopDecision::PENDING;
+}
+
+template <class Pose>
+rrr_slam::GraphEdge EdgeMsg(const rrr::PoseGraph<Pose>& g,
+                            const rrr::Constraint<Pose>& e) {
+  rrr_slam::GraphEdge out;
+  out.from_id = g.ids()[e.from];
+  out.to_id = g.ids()[e.to];
+  out.relative_pose = ToRos(e.measurement);
+  for (int r = 0; r < Pose::kDof; ++r) {
+    for (int c = 0; c < Pose::kDof; ++c)
+      out.information.push_back(e.information(r, c));
+  }
+  return out;
+}
+
+visualization_msgs::Marker MakeMarker(const std::string& frame,
+                                      const std::string& ns, int type, float r,
+                                      float g, float b, double width) {
+  visualization_msgs::Marker m;
+  m.header.frame_id = frame;
+  m.header.stamp = ros::Time::now();
+  m.ns = ns;
+  m.id = 0;
+  m.type = type;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = width;
+  m.scale.y = width;
+  m.color.r = r;
+  m.color.g = g;
+  m.color.b = b;
+  m.color.a = 1.0;
+  return m;
+}
+
+}  // namespace
+
+template <class Pose>
+rrr_slam::Decisions DecisionsMsg(
+    const rrr::OnlineVerifier<Pose>& verifier,
+    const std::vector<rrr::DecisionChange>& changes, const std::string& frame) {
+  rrr_slam::Decisions msg;
+  msg.header.stamp = ros::Time::now();
+  msg.header.frame_id = frame;
+  std::vector<int> previous(verifier.num_candidates(), -1);
+  for (const auto& c : changes)
+    previous[c.candidate] = static_cast<int>(c.previous);
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    rrr_slam::LoopDecision d;
+    d.candidate = c;
+    std::tie(d.from_id, d.to_id) = verifier.ends_of(c);
+    d.state = ToMsg(verifier.state(c));
+    d.cluster = verifier.cluster_of(c);
+    d.waiting = verifier.loop_of(c) < 0;
+    d.previous_state = previous[c] < 0
+                           ? d.state
+                           : ToMsg(static_cast<rrr::LoopState>(previous[c]));
+    d.reversed = previous[c] >= 0 &&
+                 previous[c] != static_cast<int>(rrr::LoopState::kPending);
+    if (previous[c] >= 0) msg.changed.push_back(c);
+    msg.accepted += d.state == rrr_slam::LoopDecision::ACCEPTED;
+    msg.rejected += d.state == rrr_slam::LoopDecision::REJECTED;
+    msg.pending += d.state == rrr_slam::LoopDecision::PENDING;
+    msg.decisions.push_back(d);
+  }
+  return msg;
+}
+
+template <class Pose>
+nav_msgs::Path PathMsg(const std::vector<Pose>& map,
+                       const std::vector<ros::Time>& stamps,
+                       const std::string& frame) {
+  nav_msgs::Path path;
+  path.header.stamp = stamps.empty() ? ros::Time::now() : stamps.back();
+  path.header.frame_id = frame;
+  for (size_t k = 0; k < map.size(); ++k) {
+    geometry_msgs::PoseStamped p;
+    p.header.stamp = stamps[k];
+    p.header.frame_id = frame;
+    p.pose = ToRos(map[k]);
+    path.poses.push_back(p);
+  }
+  return path;
+}
+
+template <class Pose>
+visualization_msgs::MarkerArray GraphMarkers(
+    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
+    const std::string& frame) {
+  using visualization_msgs::Marker;
+  auto odometry =
+      MakeMarker(frame, "odometry", Marker::LINE_STRIP, 0.2f, 0.4f, 1.0f, 0.05);
+  auto poses =
+      MakeMarker(frame, "poses", Marker::POINTS, 0.1f, 0.1f, 0.6f, 0.08);
+  auto accepted =
+      MakeMarker(frame, "accepted", Marker::LINE_LIST, 0.0f, 0.9f, 0.0f, 0.4);
+  auto rejected =
+      MakeMarker(frame, "rejected", Marker::LINE_LIST, 0.9f, 0.0f, 0.0f, 0.04);
+  auto pending =
+      MakeMarker(frame, "pending", Marker::LINE_LIST, 1.0f, 0.85f, 0.0f, 0.06);
+  for (const Pose& p : map) {
+    odometry.points.push_back(ToRos(p).position);
+    poses.points.push_back(ToRos(p).position);
+  }
+  const auto& graph = verifier.graph();
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    const int loop = verifier.loop_of(c);
+    if (loop < 0) continue;
+    const auto& e = graph.loops()[loop];
+    auto& list = verifier.state(c) == rrr::LoopState::kAccepted   ? accepted
+                 : verifier.state(c) == rrr::LoopState::kRejected ? rejected
+                                                                  : pending;
+    list.points.push_back(ToRos(map[e.from]).position);
+    list.points.push_back(ToRos(map[e.to]).position);
+  }
+  visualization_msgs::MarkerArray array;
+  for (auto* m : {&odometry, &poses, &accepted, &rejected, &pending}) {
+    if (m->points.empty()) m->action = Marker::DELETE;
+    array.markers.push_back(*m);
+  }
+  return array;
+}
+
+template <class Pose>
+rrr_slam::AcceptedGraph AcceptedGraphMsg(
+    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
+    const std::vector<int>& accepted, const std::string& frame) {
+  rrr_slam::AcceptedGraph msg;
+  msg.header.stamp = ros::Time::now();
+  msg.header.frame_id = frame;
+  const auto& graph = verifier.graph();
+  msg.ids = graph.ids();
+  for (const Pose& p : map) msg.poses.push_back(ToRos(p));
+  for (const auto& e : graph.odometry())
+    msg.odometry.push_back(EdgeMsg(graph, e));
+  for (const int k : accepted)
+    msg.loops.push_back(EdgeMsg(graph, graph.loops()[k]));
+  return msg;
+}
+
+#define RRR_INSTANTIATE_GRAPH_MESSAGES(Pose)                        \
+  template rrr_slam::Decisions DecisionsMsg(                        \
+      const rrr::OnlineVerifier<Pose>&,                             \
+      const std::vector<rrr::DecisionChange>&, const std::string&); \
+  template nav_msgs::Path PathMsg(const std::vector<Pose>&,         \
+                                  const std::vector<ros::Time>&,    \
+                                  const std::string&);              \
+  template visualization_msgs::MarkerArray GraphMarkers(            \
+      const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,   \
+      const std::string&);                                          \
+  template rrr_slam::AcceptedGraph AcceptedGraphMsg(                \
+      const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,   \
+      const std::vector<int>&, const std::string&);
+RRR_INSTANTIATE_GRAPH_MESSAGES(rrr::Pose2)
+RRR_INSTANTIATE_GRAPH_MESSAGES(rrr::Pose3)
+#undef RRR_INSTANTIATE_GRAPH_MESSAGES
+
+}  // namespace rrr_ros

@@ -1,0 +1,51 @@
+// The messages rrr_node publishes about its graph, built from the verifier's
+// state and the map (keyframe poses in the map frame). Pure functions of
+// their arguments: no ROS communication here.
+#ifndef RRR_ROS_GRAPH_MESSAGES_H_
+#define RRR_ROS_GRAPH_MESSAGES_H_
+
+#include <nav_msgs/Path.h>
+#include <ros/time.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <string>
+#include <vector>
+
+#include "rrr/rrr/online_verifier.h"
+#include "rrr_slam/AcceptedGraph.h"
+#include "rrr_slam/Decisions.h"
+
+namespace rrr_ros {
+
+// Every candidate's state, with `changes` (the last update's) marked as
+// changed and, when they left a decided state, as reversed.
+template <class Pose>
+rrr_slam::Decisions DecisionsMsg(
+    const rrr::OnlineVerifier<Pose>& verifier,
+    const std::vector<rrr::DecisionChange>& changes, const std::string& frame);
+
+// The map as a path: one pose per keyframe, stamped with its keyframe's
+// stamp (`stamps` has one per pose of `map`).
+template <class Pose>
+nav_msgs::Path PathMsg(const std::vector<Pose>& map,
+                       const std::vector<ros::Time>& stamps,
+                       const std::string& frame);
+
+// rviz markers: the odometry chain and poses of `map`, and each candidate
+// whose poses exist as a line, green if accepted, red if rejected, yellow if
+// pending. An empty list is sent as DELETE, which clears an old one.
+template <class Pose>
+visualization_msgs::MarkerArray GraphMarkers(
+    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
+    const std::string& frame);
+
+// The accepted graph: `map` as the poses, every odometry edge and the loops
+// `accepted` (graph loop indices).
+template <class Pose>
+rrr_slam::AcceptedGraph AcceptedGraphMsg(
+    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
+    const std::vector<int>& accepted, const std::string& frame);
+
+}  // namespace rrr_ros
+
+#endif  // RRR_ROS_GRAPH_MESSAGES_H_
