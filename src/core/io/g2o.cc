@@ -50,12 +50,15 @@ struct G2oTraits<Pose3> {
   static constexpr const char* kVertexTag = "VERTEX_SE3:QUAT";
   static constexpr const char* kEdgeTag = "EDGE_SE3:QUAT";
   static std::optional<Pose3> MakePose(const double* v, std::string* problem) {
-    const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
-    if (q.norm() < 1e-9) {
+    // Normalized without overflow: components near 1e200 are a direction.
+    const Eigen::Vector4d wxyz(v[6], v[3], v[4], v[5]);
+    if (wxyz.stableNorm() < 1e-9) {
       *problem = "the quaternion has zero norm";
       return std::nullopt;
     }
-    return Pose3(q, Eigen::Vector3d(v[0], v[1], v[2]));
+    const Eigen::Vector4d unit = wxyz.stableNormalized();
+    return Pose3(Eigen::Quaterniond(unit[0], unit[1], unit[2], unit[3]),
+                 Eigen::Vector3d(v[0], v[1], v[2]));
   }
   static void WritePose(const Pose3& p, std::ostream& out) {
     const Eigen::Vector3d& t = p.translation();

@@ -65,6 +65,20 @@ TEST(G2o, ReadsSE3WithQuaternionOrderXyzw) {
   EXPECT_DOUBLE_EQ(g.odometry()[0].information(0, 0), 1);
 }
 
+TEST(G2o, AQuaternionWithHugeComponentsIsADirection) {
+  // Found by fuzzing: normalizing (0, 0, 1e205, 0) overflowed to a
+  // quaternion of NaNs.
+  std::string info = " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 2 0 0 2 0 2";
+  const G2oFile file = Parse(
+      "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"
+      "VERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\n"
+      "EDGE_SE3:QUAT 0 1 1 0 0 0 0 1e205 0" +
+      info + "\n");
+  const auto& e = std::get<PoseGraph3>(file.graph).odometry()[0];
+  EXPECT_TRUE(e.measurement.Log().allFinite());
+  EXPECT_NEAR(e.measurement.angle(), M_PI, 1e-9);
+}
+
 TEST(G2o, WriteThenReadGivesTheSameGraph) {
   const auto g = std::get<PoseGraph2>(Parse(kSquare2D).graph);
   std::ostringstream out;
