@@ -2,6 +2,7 @@
 // loops goes in as odometry and loop-closure messages (by id, by stamp, ahead
 // of its keyframe, and invalid ones); decisions, path, markers, tf and the
 // services come out.
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
@@ -224,6 +225,16 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
   EXPECT_EQ(status.inputs_dropped, 0u);
   EXPECT_EQ(status.keyframes, static_cast<uint32_t>(g.num_poses()));
   EXPECT_EQ(status.candidates, g.loops().size());
+
+  // /diagnostics warns that invalid messages were ignored.
+  diagnostic_msgs::DiagnosticArray::ConstPtr diagnostics;
+  auto diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const auto& m) { diagnostics = m; });
+  ASSERT_TRUE(rrr_test::WaitFor([&] { return diagnostics != nullptr; }, 10.0));
+  ASSERT_EQ(diagnostics->status.size(), 1u);
+  EXPECT_EQ(diagnostics->status[0].level,
+            diagnostic_msgs::DiagnosticStatus::WARN);
+  EXPECT_EQ(diagnostics->status[0].message, "invalid messages ignored");
 
   // Save: odometry plus the accepted loops, readable as g2o.
   rrr_slam::SaveGraph save;

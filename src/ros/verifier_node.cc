@@ -17,6 +17,7 @@
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Keyframe.h"
+#include "status_messages.h"
 
 namespace rrr_ros {
 namespace {
@@ -291,35 +292,9 @@ void VerifierNode<Pose>::OnTfTimer(const ros::TimerEvent&) {
 template <class Pose>
 void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
   rrr_slam::GetStatus::Request req;
-  rrr_slam::GetStatus::Response s;
-  OnGetStatus(req, s);
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = ros::Time::now();
-  diagnostic_msgs::DiagnosticStatus status;
-  status.name = ros::this_node::getName() + ": loop-closure verification";
-  status.hardware_id = "rrr_slam";
-  status.level = s.invalid_messages > 0
-                     ? diagnostic_msgs::DiagnosticStatus::WARN
-                     : diagnostic_msgs::DiagnosticStatus::OK;
-  status.message = s.invalid_messages > 0 ? "invalid messages ignored" : "ok";
-  const auto add = [&status](const std::string& key, double value) {
-    diagnostic_msgs::KeyValue kv;
-    kv.key = key;
-    kv.value = std::to_string(value);
-    status.values.push_back(kv);
-  };
-  add("keyframes", s.keyframes);
-  add("candidates", s.candidates);
-  add("accepted", s.accepted);
-  add("rejected", s.rejected);
-  add("pending", s.pending);
-  add("waiting for a keyframe", s.waiting);
-  add("queue length", s.queue_length);
-  add("max queue length", s.max_queue_length);
-  add("last update (s)", s.last_update_seconds);
-  add("invalid messages", s.invalid_messages);
-  array.status.push_back(status);
-  diagnostics_pub_.publish(array);
+  rrr_slam::GetStatus::Response status;
+  OnGetStatus(req, status);
+  diagnostics_pub_.publish(DiagnosticsOf(status, ros::this_node::getName()));
 }
 
 // ---- Worker thread ---------------------------------------------------------
@@ -533,29 +508,8 @@ void VerifierNode<Pose>::Skip(const std::string& what,
   uint64_t count;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
-    switch (defect) {
-      case rrr::CandidateDefect::kSelfLoop:
-        ++status_.skipped_self_loops;
-        break;
-      case rrr::CandidateDefect::kConsecutivePoses:
-        ++status_.skipped_consecutive_poses;
-        break;
-      case rrr::CandidateDefect::kDuplicate:
-        ++status_.skipped_duplicates;
-        break;
-      case rrr::CandidateDefect::kUnknownPose:
-        ++status_.skipped_unknown_poses;
-        break;
-      case rrr::CandidateDefect::kTooFarAhead:
-        ++status_.refused_too_far_ahead;
-        break;
-      case rrr::CandidateDefect::kWaitingFull:
-        ++status_.refused_waiting_full;
-        break;
-    }
-    count = status_.skipped_self_loops + status_.skipped_consecutive_poses +
-            status_.skipped_duplicates + status_.skipped_unknown_poses +
-            status_.refused_too_far_ahead + status_.refused_waiting_full;
+    CountCandidateDefect(defect, &status_);
+    count = CandidateDefects(status_);
   }
   ROS_WARN_THROTTLE(
       5.0, "rrr_node: skipped %s (%s): %s (%lu skipped candidates so far)",
