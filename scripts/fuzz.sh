@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/: clang with AddressSanitizer and
-# UndefinedBehaviorSanitizer) into _build/fuzz and runs each one: the g2o
+# UndefinedBehaviorSanitizer) into <build>/fuzz and runs each one: the g2o
 # reader, the session database reader and the node's message conversion.
-# Needs the catkin build of scripts/setup.sh (for the message headers).
+# <build> is the catkin build of scripts/setup.sh (for the message headers):
+# RRR_BUILD_DIR, default _build.
 #
 #   scripts/fuzz.sh [--seconds S | --runs N] [TARGET...]
 #
 # Each target runs S seconds (default 60) or N inputs, from its corpus in
-# _build/fuzz/corpus/TARGET (kept between runs) and seeds made by
+# <build>/fuzz/corpus/TARGET (kept between runs) and seeds made by
 # fuzz/make_seeds plus the first lines of every g2o file under RRR_DATASETS
 # (default ../shared/datasets) when they are there. Prints one line per
 # target; exits non-zero on the first crash, sanitizer report, leak or hang
-# (the input is kept under _build/fuzz/artifacts/).
+# (the input is kept under <build>/fuzz/artifacts/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH=/usr/bin:$PATH
@@ -27,8 +28,9 @@ while [ $# -gt 0 ]; do
 done
 [ ${#targets[@]} -gt 0 ] || targets=(g2o_reader session_reader msg_conversion)
 
-build=_build/fuzz
-headers=$PWD/_build/devel/include
+catkin_build=$(realpath "${RRR_BUILD_DIR:-_build}")
+build=$catkin_build/fuzz
+headers=$catkin_build/devel/include
 cmake -S fuzz -B "$build" -DCMAKE_CXX_COMPILER=clang++ \
   -DRRR_MSG_INCLUDE_DIR="$headers" >"$build.configure.log" 2>&1 ||
   { cat "$build.configure.log"; exit 1; }
