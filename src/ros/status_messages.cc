@@ -1,6 +1,39 @@
 #include "status_messages.h"
 
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+
 namespace rrr_ros {
+
+template <class Pose>
+void SetVerifierState(const rrr::OnlineVerifier<Pose>& verifier,
+                      rrr_slam::GetStatus::Response* status) {
+  status->keyframes = verifier.graph().num_poses();
+  status->candidates = verifier.num_candidates();
+  status->accepted = status->rejected = status->pending = 0;
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    switch (verifier.state(c)) {
+      case rrr::LoopState::kAccepted:
+        ++status->accepted;
+        break;
+      case rrr::LoopState::kRejected:
+        ++status->rejected;
+        break;
+      case rrr::LoopState::kPending:
+        ++status->pending;
+        break;
+    }
+  }
+  status->waiting = verifier.num_waiting();
+  status->clusters = verifier.num_clusters();
+  status->noise_scale = verifier.noise_scale();
+  status->noise_scale_source = verifier.noise_scale_source();
+}
+
+template void SetVerifierState(const rrr::OnlineVerifier<rrr::Pose2>&,
+                               rrr_slam::GetStatus::Response*);
+template void SetVerifierState(const rrr::OnlineVerifier<rrr::Pose3>&,
+                               rrr_slam::GetStatus::Response*);
 
 void CountCandidateDefect(rrr::CandidateDefect defect,
                           rrr_slam::GetStatus::Response* status) {

@@ -77,8 +77,7 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
                       options.odometry_min_motion) {
   status_.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
-  status_.noise_scale = verifier_->noise_scale();
-  status_.noise_scale_source = verifier_->noise_scale_source();
+  SetVerifierState(*verifier_, &status_);
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
   marker_pub_ =
@@ -568,27 +567,9 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
     tf_broadcaster_.sendTransform(t);
   }
-  status_.keyframes = verifier_->graph().num_poses();
-  status_.candidates = verifier_->num_candidates();
-  status_.accepted = status_.rejected = status_.pending = 0;
-  for (int c = 0; c < verifier_->num_candidates(); ++c) {
-    switch (verifier_->state(c)) {
-      case rrr::LoopState::kAccepted:
-        ++status_.accepted;
-        break;
-      case rrr::LoopState::kRejected:
-        ++status_.rejected;
-        break;
-      case rrr::LoopState::kPending:
-        ++status_.pending;
-        break;
-    }
-  }
+  SetVerifierState(*verifier_, &status_);
   status_.waiting_by_stamp = static_cast<uint32_t>(stamped_waiting_.size());
-  status_.waiting = verifier_->num_waiting() + status_.waiting_by_stamp;
-  status_.clusters = verifier_->num_clusters();
-  status_.noise_scale = verifier_->noise_scale();
-  status_.noise_scale_source = verifier_->noise_scale_source();
+  status_.waiting += status_.waiting_by_stamp;
   ++status_.updates;
   status_.last_update_seconds = seconds;
   status_.inputs_processed += taken_since_update_;
