@@ -26,6 +26,10 @@ constexpr int kQueueSize =
     10000;  // ROS subscriber queues (ours: max_queue_length)
 constexpr double kPublishPeriod = 0.2;  // s between path/marker refreshes
 
+// How warnings name the inputs: "<kind> message <seq>".
+constexpr const char* kOdometry = "odometry";
+constexpr const char* kLoopClosure = "loop closure";
+
 // Why a message in `frame` is not in the expected frame `name` (the `role`
 // frame), or "" if it is; an empty frame is taken as the expected one.
 std::string WrongFrame(const std::string& frame, const std::string& name,
@@ -161,27 +165,33 @@ void VerifierNode<Pose>::Resume() {
 template <class Pose>
 void VerifierNode<Pose>::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
   ++odometry_received_;
-  Enqueue(msg, "odometry message " + std::to_string(msg->header.seq));
+  Enqueue(msg);
 }
 
 template <class Pose>
 void VerifierNode<Pose>::OnLoopClosure(
     const rrr_slam::LoopClosure::ConstPtr& msg) {
   ++loops_received_;
-  Enqueue(msg, "loop closure message " + std::to_string(msg->header.seq));
+  Enqueue(msg);
 }
 
 template <class Pose>
-void VerifierNode<Pose>::Enqueue(Input input, const std::string& what) {
+void VerifierNode<Pose>::Enqueue(Input input) {
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     if (!std::holds_alternative<Request>(input) &&
         queue_.size() >= options_.max_queue_length) {
       const uint64_t refused = ++inputs_refused_;
+      const bool odometry =
+          std::holds_alternative<nav_msgs::Odometry::ConstPtr>(input);
+      const uint32_t seq =
+          odometry
+              ? std::get<nav_msgs::Odometry::ConstPtr>(input)->header.seq
+              : std::get<rrr_slam::LoopClosure::ConstPtr>(input)->header.seq;
       ROS_WARN_THROTTLE(5.0,
-                        "rrr_node: refused %s: %zu inputs are queued already "
-                        "(max_queue_length; %lu refused so far)",
-                        what.c_str(), queue_.size(),
+                        "rrr_node: refused %s message %u: %zu inputs are "
+                        "queued already (max_queue_length; %lu refused so far)",
+                        odometry ? kOdometry : kLoopClosure, seq, queue_.size(),
                         static_cast<unsigned long>(refused));
       return;
     }
@@ -335,7 +345,7 @@ void VerifierNode<Pose>::WorkerLoop() {
 }
 
 template <class Pose>
-void VerifierNode<Pose>::Invalid(const std::string& what,
+void VerifierNode<Pose>::Invalid(const char* kind, uint32_t seq,
                                  const std::string& why) {
   uint64_t count;
   {
@@ -343,19 +353,18 @@ void VerifierNode<Pose>::Invalid(const std::string& what,
     count = ++status_.invalid_messages;
   }
   ROS_WARN_THROTTLE(
-      5.0, "rrr_node: ignored %s: %s (%lu invalid messages so far)",
-      what.c_str(), why.c_str(), static_cast<unsigned long>(count));
+      5.0, "rrr_node: ignored %s message %u: %s (%lu invalid messages so far)",
+      kind, seq, why.c_str(), static_cast<unsigned long>(count));
 }
 
 template <class Pose>
 void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
-  const std::string what =
-      "odometry message " + std::to_string(msg->header.seq);
   std::string why =
       WrongFrame(msg->header.frame_id, options_.odom_frame, "odometry");
-  if (!why.empty()) return Invalid(what, why);
+  if (!why.empty()) return Invalid(kOdometry, msg->header.seq, why);
   Pose pose;
-  if (!FromRos(msg->pose.pose, &pose, &why)) return Invalid(what, why);
+  if (!FromRos(msg->pose.pose, &pose, &why))
+    return Invalid(kOdometry, msg->header.seq, why);
   const rrr::OdometryCovariance covariance = FromRos(msg->pose.covariance);
   if (resumed_ && msg->header.stamp <= resumed_until_) {
     std::lock_guard<std::mutex> lock(state_mutex_);
@@ -364,7 +373,8 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   }
   if (!keyframe_stamps_.empty() &&
       msg->header.stamp < keyframe_stamps_.back()) {
-    return Invalid(what, "its stamp is older than the last keyframe's");
+    return Invalid(kOdometry, msg->header.seq,
+                   "its stamp is older than the last keyframe's");
   }
   const rrr::KeyframeRecord<Pose> record{
       static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose, covariance};
@@ -375,7 +385,8 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   } else {
     const Pose motion = keyframe_odom_.back().between(pose);
     if (!motion.Log().allFinite()) {
-      return Invalid(what, "the motion from the last keyframe is not finite");
+      return Invalid(kOdometry, msg->header.seq,
+                     "the motion from the last keyframe is not finite");
     }
     const bool every =
         options_.keyframe_translation == 0 && options_.keyframe_rotation == 0;
@@ -434,24 +445,23 @@ int VerifierNode<Pose>::KeyframeAt(const ros::Time& stamp) const {
 
 template <class Pose>
 void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
-  const std::string what =
-      "loop closure message " + std::to_string(msg->header.seq);
   const std::string why =
       WrongFrame(msg->header.frame_id, options_.base_frame, "robot");
-  if (!why.empty()) return Invalid(what, why);
+  if (!why.empty()) return Invalid(kLoopClosure, msg->header.seq, why);
   if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
     AddLoopCandidate(*msg, msg->from_id, msg->to_id);
   } else if (msg->reference == rrr_slam::LoopClosure::BY_STAMP) {
     if (static_cast<int>(stamped_waiting_.size()) >= options_.rrr.max_waiting) {
-      return Skip(what, rrr::CandidateDefect::kWaitingFull,
+      return Skip(msg->header.seq, rrr::CandidateDefect::kWaitingFull,
                   std::to_string(stamped_waiting_.size()) +
                       " candidates wait for keyframes by stamp already");
     }
     stamped_waiting_.push_back(*msg);
     ResolveStampedLoops();
   } else {
-    Invalid(what, "reference " + std::to_string(msg->reference) +
-                      " is neither BY_ID nor BY_STAMP");
+    Invalid(kLoopClosure, msg->header.seq,
+            "reference " + std::to_string(msg->reference) +
+                " is neither BY_ID nor BY_STAMP");
   }
 }
 
@@ -463,8 +473,7 @@ void VerifierNode<Pose>::ResolveStampedLoops() {
     if (from == -2 || to == -2) {
       *keep++ = std::move(msg);
     } else if (from < 0 || to < 0) {
-      Skip("loop closure message " + std::to_string(msg.header.seq),
-           rrr::CandidateDefect::kUnknownPose,
+      Skip(msg.header.seq, rrr::CandidateDefect::kUnknownPose,
            "no keyframe within " + std::to_string(options_.stamp_tolerance) +
                " s of its " + (from < 0 ? "from" : "to") + " stamp");
     } else {
@@ -478,31 +487,28 @@ void VerifierNode<Pose>::ResolveStampedLoops() {
 template <class Pose>
 void VerifierNode<Pose>::AddLoopCandidate(const rrr_slam::LoopClosure& msg,
                                           rrr::PoseId from, rrr::PoseId to) {
-  const std::string what =
-      "loop closure message " + std::to_string(msg.header.seq);
   Pose z;
   Information information;
   std::string why;
   if (!FromRos(msg.relative_pose.pose, &z, &why) ||
       !InformationFromCovariance<Pose>(msg.relative_pose.covariance,
                                        &information, &why)) {
-    return Invalid(what, why);
+    return Invalid(kLoopClosure, msg.header.seq, why);
   }
   if (from < 0 || to < 0) {
-    return Skip(what, rrr::CandidateDefect::kUnknownPose,
+    return Skip(msg.header.seq, rrr::CandidateDefect::kUnknownPose,
                 "keyframe ids start at 0");
   }
   try {
     const int number = verifier_->AddLoop(from, to, z, information);
     if (store_) store_->RecordCandidate(number, from, to, z, information);
   } catch (const rrr::DegenerateCandidate& e) {
-    Skip(what, e.defect(), e.what());
+    Skip(msg.header.seq, e.defect(), e.what());
   }
 }
 
 template <class Pose>
-void VerifierNode<Pose>::Skip(const std::string& what,
-                              rrr::CandidateDefect defect,
+void VerifierNode<Pose>::Skip(uint32_t seq, rrr::CandidateDefect defect,
                               const std::string& why) {
   uint64_t count;
   {
@@ -511,8 +517,10 @@ void VerifierNode<Pose>::Skip(const std::string& what,
     count = CandidateDefects(status_);
   }
   ROS_WARN_THROTTLE(
-      5.0, "rrr_node: skipped %s (%s): %s (%lu skipped candidates so far)",
-      what.c_str(), rrr::ToString(defect), why.c_str(),
+      5.0,
+      "rrr_node: skipped loop closure message %u (%s): %s (%lu skipped "
+      "candidates so far)",
+      seq, rrr::ToString(defect), why.c_str(),
       static_cast<unsigned long>(count));
 }
 

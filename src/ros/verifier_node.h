@@ -50,9 +50,9 @@ class VerifierNode {
   // ROS threads: record and return.
   void OnOdometry(const nav_msgs::Odometry::ConstPtr& msg);
   void OnLoopClosure(const rrr_slam::LoopClosure::ConstPtr& msg);
-  // Queues `input` for the worker; a message (`what` names it) is refused,
-  // counted and warned about when max_queue_length inputs wait already.
-  void Enqueue(Input input, const std::string& what = "");
+  // Queues `input` for the worker; a message is refused, counted and warned
+  // about when max_queue_length inputs wait already.
+  void Enqueue(Input input);
   // Queues `request` for the worker and waits until it has run.
   void RunOnWorker(const Request& request);
   bool OnSaveGraph(rrr_slam::SaveGraph::Request& req,
@@ -84,10 +84,11 @@ class VerifierNode {
   void PublishAcceptedGraph();
   // Rebuilds the verifier and the keyframes from the session database.
   void Resume();
-  void Invalid(const std::string& what, const std::string& why);
-  // Counts a degenerate candidate under its reason and warns (throttled).
-  void Skip(const std::string& what, rrr::CandidateDefect defect,
-            const std::string& why);
+  // Counts an invalid message and warns (throttled), naming it by `kind`
+  // and sequence number; the name is formatted only when the warning is.
+  void Invalid(const char* kind, uint32_t seq, const std::string& why);
+  // Counts a degenerate loop candidate under its reason and warns (throttled).
+  void Skip(uint32_t seq, rrr::CandidateDefect defect, const std::string& why);
 
   const NodeOptions options_;
   ros::NodeHandle nh_, private_nh_;
