@@ -1,14 +1,12 @@
 #include "msg_conversion.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
 
+#include "rrr/graph/covariance.h"
+
 namespace rrr_ros {
 namespace {
-
-// Covariances less well conditioned than this are refused as singular.
-constexpr double kMinReciprocalCondition = 1e-14;
 
 // Rows/columns of a 6x6 PoseWithCovariance covariance that a pose type uses.
 template <class Pose>
@@ -117,27 +115,7 @@ bool InformationFromCovariance(const boost::array<double, 36>& covariance,
     *why = "the covariance is not symmetric";
     return false;
   }
-  const Eigen::LLT<typename rrr::Constraint<Pose>::Information> llt(c);
-  if (llt.info() != Eigen::Success) {
-    *why = "the covariance is not positive definite";
-    return false;
-  }
-  // A covariance that is numerically singular has no usable inverse: the
-  // information would be infinite or not positive definite.
-  if (llt.rcond() < kMinReciprocalCondition) {
-    *why = "the covariance is numerically singular (reciprocal condition " +
-           std::to_string(llt.rcond()) + ")";
-    return false;
-  }
-  const typename rrr::Constraint<Pose>::Information inverse = c.inverse();
-  const typename rrr::Constraint<Pose>::Information information =
-      0.5 * (inverse + inverse.transpose());
-  if (!information.allFinite() || information.llt().info() != Eigen::Success) {
-    *why = "the covariance has no finite positive definite inverse";
-    return false;
-  }
-  *out = information;
-  return true;
+  return rrr::InformationFromCovariance<Pose::kDof>(c, out, why);
 }
 
 template <class Pose>

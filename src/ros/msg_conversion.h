@@ -27,8 +27,9 @@ geometry_msgs::Transform ToRosTransform(const rrr::Pose3& pose);
 
 // The information matrix of a PoseWithCovariance covariance (x y z roll
 // pitch yaw; 2D keeps x, y and yaw). Returns false (with a reason) if the
-// covariance is not finite, not symmetric, not positive definite or
-// numerically singular (reciprocal condition number below 1e-14).
+// covariance is not finite or not symmetric, or if
+// rrr::InformationFromCovariance refuses it (not positive definite, numerically
+// singular).
 template <class Pose>
 bool InformationFromCovariance(const boost::array<double, 36>& covariance,
                                typename rrr::Constraint<Pose>::Information* out,

@@ -5,6 +5,7 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/covariance.h"
 
 namespace rrr {
 namespace {
@@ -26,26 +27,6 @@ Eigen::Matrix<double, 6, 6> Select(const Pose3& pose) {
   s.block<3, 3>(0, 0) = rt;
   s.block<3, 3>(3, 3) = rt;
   return s;
-}
-
-// Covariances less well conditioned than this have no usable inverse.
-constexpr double kMinReciprocalCondition = 1e-14;
-
-// The inverse of `covariance` if it is positive definite and the inverse is
-// too (finite, numerically invertible); false otherwise.
-template <class M>
-bool Invert(const M& covariance, M* information) {
-  const Eigen::LLT<M> llt(covariance);
-  if (llt.info() != Eigen::Success || llt.rcond() < kMinReciprocalCondition) {
-    return false;
-  }
-  const M inverse = llt.solve(M::Identity());
-  const M symmetric = 0.5 * (inverse + inverse.transpose());
-  if (!symmetric.allFinite() || symmetric.llt().info() != Eigen::Success) {
-    return false;
-  }
-  *information = symmetric;
-  return true;
 }
 
 }  // namespace
@@ -74,8 +55,8 @@ OdometryNoiseModel<Pose>::EdgeInformation(
     const auto s = Select(to);
     const Information change = s * (to_cov - from_cov) * s.transpose();
     Information information;
-    if (Invert<Information>(0.5 * (change + change.transpose()),
-                            &information)) {
+    if (InformationFromCovariance<Pose::kDof>(
+            0.5 * (change + change.transpose()), &information)) {
       if (source) *source = Source::kCovarianceChange;
       return information;
     }
