@@ -12,7 +12,9 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 import ros_processes  # noqa: E402
 
-RRR = ROOT / "_build" / "devel" / "lib" / "rrr_slam" / "rrr"
+# The rrr tool of the package's build, or the one RRR_BIN names (to keep a
+# long benchmark on one build while the package is rebuilt).
+RRR = pathlib.Path(os.environ.get("RRR_BIN", ROOT / "_build" / "devel" / "lib" / "rrr_slam" / "rrr"))
 
 
 def datasets_dir():

@@ -27,6 +27,7 @@ struct MapVerifierStats {
   int reopened = 0;                // set-aside clusters judged again
   int optimizations = 0;           // whole-map minimizations
   int not_converged = 0;           // deciding solves stopped by the limit
+  int pruned = 0;                  // accepted after dropping strained links
   double noise_scale = 1.0;        // s of the gates at the end
   std::string noise_scale_source;  // see OnlineVerifier::noise_scale_source
 };
@@ -50,13 +51,17 @@ struct MapVerifierStats {
 //     estimate (no solve) and by a minimization over the junctions within
 //     `map_radius` hops of S's ends (MaintainedMap::Try); S is accepted when
 //     a bound passes.
-//  3. Otherwise S conflicts with the map. The accepted clusters that the
+//  3. Otherwise, while the trial leaves S's worst link with d²_l ≥
+//     s·χ²(α, e), that link is dropped and the rest is tried (at most
+//     kMostPrunedLinks links): odometry alone can absorb a false link that
+//     the map refutes. If the rest fits, it is accepted without them.
+//  4. Otherwise S conflicts with the map. The accepted clusters that the
 //     local solve strains more than it leaves S unsatisfied (each error
 //     normalized by its gate, as RRR's consistency index) are set aside one
 //     by one, the most strained first (at most kMostReversalsPerConflict);
 //     if S then fits the map, they stay out (reversals) and S is accepted,
 //     else they are restored and S is set aside.
-//  4. Re-opening: after a reversal, and after each whole-map minimization
+//  5. Re-opening: after a reversal, and after each whole-map minimization
 //     (see RrrOptions::optimize_every), every set-aside cluster
 //     whose error at the map's estimate is under its gate is judged again,
 //     every accepted cluster whose error is over it is judged again, and
@@ -79,6 +84,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // map without the clusters a conflict sets aside.
   static constexpr double kNearMissFactor = 10.0;
   static constexpr int kWideRadiusFactor = 4;
+  // Links a cluster may lose in step 3 before it is judged a conflict.
+  static constexpr int kMostPrunedLinks = 3;
 
   // Throws std::invalid_argument if `options` do not validate.
   explicit MapVerifier(const RrrOptions& options);
@@ -113,14 +120,21 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // The pose index at which pending cluster `c` is judged, or -1 if not yet.
   int DecisionPose(int c, bool finish) const;
   void JudgeCluster(int c);
-  // Steps 2 and 3 for a cluster that passed step 1.
+  // Steps 2 to 4 for a cluster that passed step 1.
   void JudgeAgainstMap(int c);
+  // Tries `links` against the map within map_radius hops, and within
+  // kWideRadiusFactor times that on a near miss of `gate`.
+  MapTrial TryAgainstMap(const std::vector<int>& links, double gate);
+  // Step 3 for cluster `c`, whose survivors failed `trial`: while the worst
+  // link's d²_l is over s·χ²(α, e), drops it and tries the rest; if the rest
+  // fits, it becomes the survivors and `c` is accepted (returns true).
+  bool Prune(int c, MapTrial trial);
   // Marks `c` accepted; adds its links to the map unless a kept trial did.
   void Accept(int c, bool add_to_map);
   void SetAside(int c);
-  // Step 4, once.
+  // Step 5, once.
   void Reopen();
-  // Step 4 until the map stops calling for it (at most kMostReopenRounds).
+  // Step 5 until the map stops calling for it (at most kMostReopenRounds).
   void ReopenWhileNeeded();
   static constexpr int kMostReopenRounds = 3;
   static constexpr double kRejudgeScaleRatio = 2.0;

@@ -225,6 +225,49 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
 }
 
 template <class Pose>
+MapTrial MapVerifier<Pose>::TryAgainstMap(const std::vector<int>& links,
+                                          double gate) {
+  ++stats_.trials;
+  this->CountSolves(1);
+  MapTrial trial = map_->Try(links, options_.map_radius);
+  // A near miss may be the held boundary's doing: look wider.
+  if (trial.minimize.solved && trial.increase >= gate &&
+      trial.increase < kNearMissFactor * gate) {
+    ++stats_.trials;
+    this->CountSolves(1);
+    trial = map_->Try(links, kWideRadiusFactor * options_.map_radius);
+  }
+  if (!trial.minimize.converged) ++stats_.not_converged;
+  return trial;
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::Prune(int c, MapTrial trial) {
+  const int e = Pose::kDof;
+  std::vector<int> links = records_[c].survivors;
+  for (int dropped = 0;
+       dropped < kMostPrunedLinks && trial.minimize.solved && links.size() > 1;
+       ++dropped) {
+    const auto worst =
+        std::max_element(trial.loop_chi2.begin(), trial.loop_chi2.end());
+    if (*worst < Gate(e)) return false;
+    links.erase(links.begin() + (worst - trial.loop_chi2.begin()));
+    const double gate = Gate(e * static_cast<int>(links.size()));
+    trial = TryAgainstMap(links, gate);
+    if (trial.minimize.solved && trial.increase < gate) {
+      ++stats_.pruned;
+      records_[c].survivors = links;
+      map_->KeepTrial(Significant());
+      scale_.SetClusterSample(c, trial.increase,
+                              e * static_cast<int>(links.size()));
+      Accept(c, false);
+      return true;
+    }
+  }
+  return false;
+}
+
+template <class Pose>
 double MapVerifier<Pose>::ClusterChi2AtEstimate(int c) const {
   double sum = 0.0;
   for (const int loop : records_[c].survivors) sum += map_->LoopChi2(loop);
@@ -245,23 +288,14 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
     return;
   }
   const int wide = kWideRadiusFactor * options_.map_radius;
-  ++stats_.trials;
-  this->CountSolves(1);
-  MapTrial trial = map_->Try(links, options_.map_radius);
-  // A near miss may be the held boundary's doing: look wider.
-  if (trial.minimize.solved && trial.increase >= gate &&
-      trial.increase < kNearMissFactor * gate) {
-    ++stats_.trials;
-    this->CountSolves(1);
-    trial = map_->Try(links, wide);
-  }
-  if (!trial.minimize.converged) ++stats_.not_converged;
+  const MapTrial trial = TryAgainstMap(links, gate);
   if (trial.minimize.solved && trial.increase < gate) {
     map_->KeepTrial(Significant());
     scale_.SetClusterSample(c, trial.increase, dof);
     Accept(c, false);
     return;
   }
+  if (Prune(c, trial)) return;
   // Conflict. The accepted clusters the trial strained most, more than c
   // is left unsatisfied (each normalized by its gate), are set aside in turn
   // while c still does not fit; if c then fits, they stay out (reversals),

@@ -76,33 +76,35 @@ TEST(MapVerifier, DecisionsDoNotDependOnWhenUpdatesRun) {
   EXPECT_EQ(batch, every_pose.Accepted());
 }
 
-// Two laps of a circle of kLap poses, exact odometry that is stiff in
-// translation and soft in rotation. Loops are added as `(a, b, measured as
-// the truth of (a, b + shift))`.
+// Laps of a circle of kLap poses, exact odometry that is stiff in
+// translation, with the given rotation information. Loops are added as
+// `(a, b, measured as the truth of (a, b + shift))`, stiff in both.
 constexpr int kLap = 400;
 struct Circle {
   PoseGraph<Pose2> graph;
   std::vector<Pose2> truth;
 
-  Circle() {
+  explicit Circle(int laps = 2, double rotation_information = 1e4) {
     const double step = 2.0 * M_PI / kLap;
-    for (int k = 0; k < 2 * kLap; ++k) {
+    for (int k = 0; k < laps * kLap; ++k) {
       truth.push_back(k == 0 ? Pose2() : truth.back() * Pose2(1.0, 0.0, step));
       graph.AddPose(k, truth.back());
     }
     Pose2::Jacobian info = Pose2::Jacobian::Identity();
-    info.diagonal() << 100.0, 100.0, 1e4;
-    for (int k = 0; k + 1 < 2 * kLap; ++k) {
+    info.diagonal() << 100.0, 100.0, rotation_information;
+    for (int k = 0; k + 1 < laps * kLap; ++k) {
       graph.AddEdge({k, k + 1, truth[k].between(truth[k + 1]), info});
     }
   }
   void AddLoops(int a, int b, int count, int shift) {
+    for (int k = 0; k < count; ++k) {
+      AddLoop(a + k, b + k, truth[a + k].between(truth[b + k + shift]));
+    }
+  }
+  void AddLoop(int a, int b, const Pose2& measurement) {
     Pose2::Jacobian info = Pose2::Jacobian::Identity();
     info.diagonal() << 100.0, 100.0, 1e4;
-    for (int k = 0; k < count; ++k) {
-      graph.AddEdge(
-          {a + k, b + k, truth[a + k].between(truth[b + k + shift]), info});
-    }
+    graph.AddEdge({a, b, measurement, info});
   }
 };
 
@@ -124,6 +126,32 @@ TEST(MapVerifier, ReversesDecisionsBothWaysOnNewEvidence) {
   truth.insert({50, kLap + 50});
   for (int k = 0; k < 10; ++k) truth.insert({80 + k, kLap + 80 + k});
   EXPECT_EQ(replay.Accepted(), truth);
+}
+
+TEST(MapVerifier, DropsTheLinkOfAClusterThatOnlyTheMapRefutes) {
+  // Three laps, odometry soft in rotation: lap 2 and lap 3 are tied to lap 1
+  // at poses 100-119 and 100-111 (lap-2 links, then lap-3 links, judged
+  // first). Cluster C links lap 3 to lap 2: five true links at 100-104 and
+  // F at 112, 1.5 m to the side. Alone with the odometry C is consistent
+  // (eight soft steps on each lap absorb F); in the map, F's ends are one
+  // step from tied poses, so C fails as a whole and F is dropped.
+  Circle circle(3, 100.0);
+  circle.AddLoops(100, kLap + 100, 20, 0);
+  circle.AddLoops(100, 2 * kLap + 100, 12, 0);
+  circle.AddLoops(kLap + 100, 2 * kLap + 100, 5, 0);
+  const int f = static_cast<int>(circle.graph.loops().size());
+  circle.AddLoop(
+      kLap + 112, 2 * kLap + 112,
+      circle.truth[kLap + 112].between(circle.truth[2 * kLap + 112]) *
+          Pose2(0.0, 1.5, 0.0));
+  RrrOptions options;
+  options.noise_scale = 1.0;
+  MapVerifierStats stats;
+  const Verdict verdict =
+      VerifyWithMap<Pose2>(circle.graph, options, nullptr, &stats);
+  EXPECT_EQ(verdict.rejected, (std::vector<int>{f}));
+  EXPECT_EQ(stats.pruned, 1);
+  EXPECT_EQ(stats.reversals, 0);
 }
 
 TEST(MapVerifier, RejectsAFalseLoopIn3D) {
