@@ -53,6 +53,26 @@ def main():
               f"{row['recall']:>10.4f} {row['ate']:>10.3f} "
               f"{seconds:>10.2f} {row['peak_rss_mb']:>10.1f}", flush=True)
     (out / "results.json").write_text(common.json.dumps(rows, indent=1))
+    write_table(rows, out / "table.md")
+
+
+def write_table(rows, path):
+    """The rows as a Markdown table, figures short of the accuracy targets
+    (BENCHMARKS.md) in bold."""
+    def figure(value, text, short):
+        return f"**{text % value}**" if short else text % value
+
+    lines = ["| dataset | kind | false loops | seed | candidates | accepted | precision | recall | "
+             "ATE m | s | peak MB |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        least_precision = 1.0 if r["outliers"] <= 100 else 0.999
+        precision = figure(r["precision"], "%.4f", r["precision"] < least_precision)
+        recall = figure(r["recall"], "%.4f", r["recall"] < 0.98)
+        ate = figure(r["ate"], "%.3f", r["ate"] > 0.25)
+        lines.append(f"| {r['dataset']} | {r['kind']} | {r['outliers']} | {r['seed']} | "
+                     f"{r['candidates']} | {r['accepted']} | {precision} | {recall} | {ate} | "
+                     f"{r['seconds']:.2f} | {r['peak_rss_mb']:.1f} |")
+    path.write_text("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":
