@@ -113,7 +113,8 @@ void Verify(const PoseGraph<Pose>& graph,
                                {"optimizations", stats.optimizations},
                                {"not_converged", stats.not_converged}};
     report["noise_scale"] = {{"value", stats.noise_scale},
-                             {"source", stats.noise_scale_source}};
+                             {"source", stats.noise_scale_source},
+                             {"a_posteriori", stats.a_posteriori_scale}};
   }
   std::ofstream out(args.report);
   out << report.dump(1) << "\n";

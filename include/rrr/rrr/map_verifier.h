@@ -20,16 +20,17 @@ namespace rrr {
 
 // Counters of what the procedure did, for reports and benchmarks.
 struct MapVerifierStats {
-  int intra_solves = 0;            // condensed intra-cluster solves
-  int quick_accepts = 0;           // accepted on the map's estimate, no solve
-  int trials = 0;                  // local solves against the map
-  int reversals = 0;               // accepted clusters later set aside
-  int reopened = 0;                // set-aside clusters judged again
-  int optimizations = 0;           // whole-map minimizations
-  int not_converged = 0;           // deciding solves stopped by the limit
-  int pruned = 0;                  // accepted after dropping strained links
-  double noise_scale = 1.0;        // s of the gates at the end
-  std::string noise_scale_source;  // see OnlineVerifier::noise_scale_source
+  int intra_solves = 0;             // condensed intra-cluster solves
+  int quick_accepts = 0;            // accepted on the map's estimate, no solve
+  int trials = 0;                   // local solves against the map
+  int reversals = 0;                // accepted clusters later set aside
+  int reopened = 0;                 // set-aside clusters judged again
+  int optimizations = 0;            // whole-map minimizations
+  int not_converged = 0;            // deciding solves stopped by the limit
+  int pruned = 0;                   // accepted after dropping strained links
+  double noise_scale = 1.0;         // s of the gates at the end
+  std::string noise_scale_source;   // see OnlineVerifier::noise_scale_source
+  double a_posteriori_scale = 0.0;  // MapVerifier::APosterioriScale at the end
 };
 
 // The "map" procedure (README, "Procedures"; RRR_ALGORITHM.md terms).
@@ -104,6 +105,11 @@ class MapVerifier : public OnlineVerifier<Pose> {
   double NoiseScaleAt(int pose) const;
   double noise_scale() const override;
   std::string noise_scale_source() const override;
+  // The median over the accepted clusters of their error at the map's
+  // estimate per degree of freedom, Σ d²_l / (e·|S|): the a-posteriori
+  // variance factor of the map, for comparison with the estimate the gates
+  // use (reports only). 0 while no cluster is accepted.
+  double APosterioriScale() const;
 
  private:
   enum class Status { kPending, kRejected, kAccepted, kSetAside };

@@ -47,6 +47,20 @@ std::string MapVerifier<Pose>::noise_scale_source() const {
 }
 
 template <class Pose>
+double MapVerifier<Pose>::APosterioriScale() const {
+  std::vector<double> per_dof;
+  for (size_t c = 0; c < records_.size(); ++c) {
+    if (records_[c].status != Status::kAccepted) continue;
+    per_dof.push_back(ClusterChi2AtEstimate(static_cast<int>(c)) /
+                      (Pose::kDof * records_[c].survivors.size()));
+  }
+  if (per_dof.empty()) return 0.0;
+  const auto middle = per_dof.begin() + per_dof.size() / 2;
+  std::nth_element(per_dof.begin(), middle, per_dof.end());
+  return *middle;
+}
+
+template <class Pose>
 double MapVerifier<Pose>::Significant() const {
   return NoiseScaleAt(decision_pose_) * Pose::kDof;
 }
@@ -456,6 +470,7 @@ Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
     *stats = verifier.stats();
     stats->noise_scale = verifier.noise_scale();
     stats->noise_scale_source = verifier.noise_scale_source();
+    stats->a_posteriori_scale = verifier.APosterioriScale();
   }
   return verdict;
 }

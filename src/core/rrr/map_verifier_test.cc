@@ -154,6 +154,35 @@ TEST(MapVerifier, DropsTheLinkOfAClusterThatOnlyTheMapRefutes) {
   EXPECT_EQ(stats.reversals, 0);
 }
 
+TEST(MapVerifier, APosterioriScaleFollowsTheInformationMatrices) {
+  // Information k times larger with gates k times looser: the same decisions
+  // and map, each error k times larger.
+  const auto graph = testing::NoisyChain<Pose2>(
+      400, {{10, 136}, {12, 138}, {140, 266}, {150, 276}, {270, 396}}, 0.02);
+  PoseGraph<Pose2> scaled;
+  for (int k = 0; k < graph.num_poses(); ++k) {
+    scaled.AddPose(graph.ids()[k], graph.estimates()[k]);
+  }
+  for (const auto* edges : {&graph.odometry(), &graph.loops()}) {
+    for (auto e : *edges) {
+      e.information *= 4.0;
+      scaled.AddEdge(e);
+    }
+  }
+  RrrOptions options;
+  options.noise_scale = 1.0;
+  MapVerifierStats given, fourfold;
+  const Verdict a = VerifyWithMap<Pose2>(graph, options, nullptr, &given);
+  options.noise_scale = 4.0;
+  const Verdict b = VerifyWithMap<Pose2>(scaled, options, nullptr, &fourfold);
+  EXPECT_EQ(a.accepted, b.accepted);
+  ASSERT_EQ(a.accepted.size(), 5u);
+  EXPECT_GT(given.a_posteriori_scale, 0.0);
+  EXPECT_LT(given.a_posteriori_scale, 3.0);
+  EXPECT_NEAR(fourfold.a_posteriori_scale, 4.0 * given.a_posteriori_scale,
+              1e-6 * fourfold.a_posteriori_scale);
+}
+
 TEST(MapVerifier, RejectsAFalseLoopIn3D) {
   auto graph = testing::NoisyChain<Pose3>(
       600, {{10, 136}, {12, 138}, {140, 266}, {150, 276}, {270, 396}}, 0.01);
