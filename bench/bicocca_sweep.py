@@ -5,7 +5,7 @@ and the metric rule, ATE, and time. Prints a table and draws the paper-style
 plots (precision, recall and ATE against the level; the trajectory at one
 level with its accepted and rejected loops) as PNG.
 
-    bench/bicocca_sweep.py [--repeat 5] [--procedure map|published] [--span-gate] [--threads N] [--out DIR] [--levels 0.150 ...]
+    bench/bicocca_sweep.py [--repeat 5] [--method rrr|dcs|gnc|pcm] [--procedure map|published] [--span-gate] [--threads N] [--out DIR] [--levels 0.150 ...]
 """
 import argparse
 import pathlib

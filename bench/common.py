@@ -83,6 +83,8 @@ def verify(graph, window, out_dir, repeat=1, extra=()):
 
 def add_verify_arguments(parser):
     """The rrr verify options every benchmark script passes on."""
+    parser.add_argument("--method", default="rrr", choices=["rrr", "dcs", "gnc", "pcm"],
+                        help="pass --method to rrr verify (the other robust back-ends)")
     parser.add_argument("--procedure", default="map", choices=["map", "published"],
                         help="pass --procedure to rrr verify")
     parser.add_argument("--span-gate", action="store_true",
@@ -97,7 +99,7 @@ def add_verify_arguments(parser):
 
 def verify_flags(args):
     """rrr verify flags for a script's add_verify_arguments options."""
-    flags = ["--procedure", args.procedure]
+    flags = ["--method", args.method, "--procedure", args.procedure]
     if args.span_gate:
         flags.append("--span-gate")
     if args.threads:

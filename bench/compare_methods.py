@@ -15,7 +15,8 @@ A run that takes longer than --timeout seconds is stopped and reported as
 such (the published procedure needs hours on city10000 with 1000 false
 loops). With --reuse, a method whose report is already in OUT from an earlier
 run on the same spoiled set is scored from it, not run again (so one method
-can be re-run after a change while the others' runs are kept).
+can be re-run after a change while the others' runs are kept); a run that was
+stopped at a timeout at least as long is reported stopped again.
 """
 import argparse
 import json
@@ -37,12 +38,17 @@ def run_method(spoiled, window, run_dir, method, timeout, reuse):
     """rrr verify with `method`; (report, map path) or None on timeout."""
     run_dir.mkdir(parents=True, exist_ok=True)
     out_map, report = run_dir / "verified.g2o", run_dir / "report.json"
+    stopped = run_dir / "stopped"
     if reuse and report.exists() and out_map.exists():
         return common.read_json(report), out_map
+    if reuse and stopped.exists() and float(stopped.read_text()) >= timeout:
+        return None
+    stopped.unlink(missing_ok=True)
     try:
         _, peak = common.run_measured("verify", spoiled, "--window", window, "--output", out_map,
                                       "--report", report, *METHODS[method], timeout=timeout)
     except subprocess.TimeoutExpired:
+        stopped.write_text(f"{timeout}\n")
         return None
     result = common.read_json(report)
     result["peak_rss_mb"] = peak
