@@ -91,7 +91,8 @@ void MapVerifier<Pose>::Catch() {
       samples_before_pose_.push_back(scale_.num_loop_samples());
     }
   };
-  const PoseId span = kClusterSpanWindows * options_.cluster_window;
+  const PoseId span =
+      static_cast<PoseId>(kClusterSpanWindows) * options_.cluster_window;
   for (int loop = static_cast<int>(this->cluster_of_loop_.size());
        loop < static_cast<int>(graph.loops().size()); ++loop) {
     record_until(this->poses_at_arrival(loop));
