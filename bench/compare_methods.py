@@ -40,7 +40,9 @@ def run_method(spoiled, window, run_dir, method, timeout, reuse):
     out_map, report = run_dir / "verified.g2o", run_dir / "report.json"
     stopped = run_dir / "stopped"
     if reuse and report.exists() and out_map.exists():
-        return common.read_json(report), out_map
+        result = common.read_json(report)
+        if "peak_rss_mb" in result:  # written by this script, not by rrr alone
+            return result, out_map
     if reuse and stopped.exists() and float(stopped.read_text()) >= timeout:
         return None
     stopped.unlink(missing_ok=True)
