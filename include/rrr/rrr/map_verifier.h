@@ -134,7 +134,11 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Step 3 for cluster `c`, whose survivors failed `trial`: while the worst
   // link's d²_l is over s·χ²(α, e), drops it and tries the rest; if the rest
   // fits, it becomes the survivors and `c` is accepted (returns true).
-  bool Prune(int c, MapTrial trial);
+  bool Prune(int c, const MapTrial& failed);
+  // Accepts `c` with the survivors the last trial tried, which raised the
+  // map's minimal error by `increase`: keeps the trial's estimate and takes
+  // the increase as c's noise-scale sample.
+  void AcceptTrial(int c, double increase);
   // Marks `c` accepted; adds its links to the map unless a kept trial did.
   void Accept(int c, bool add_to_map);
   void SetAside(int c);

@@ -257,29 +257,36 @@ MapTrial MapVerifier<Pose>::TryAgainstMap(const std::vector<int>& links,
 }
 
 template <class Pose>
-bool MapVerifier<Pose>::Prune(int c, MapTrial trial) {
+bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
   const int e = Pose::kDof;
   std::vector<int> links = records_[c].survivors;
+  std::vector<double> loop_chi2 = failed.loop_chi2;
+  bool solved = failed.minimize.solved;
   for (int dropped = 0;
-       dropped < kMostPrunedLinks && trial.minimize.solved && links.size() > 1;
-       ++dropped) {
-    const auto worst =
-        std::max_element(trial.loop_chi2.begin(), trial.loop_chi2.end());
+       dropped < kMostPrunedLinks && solved && links.size() > 1; ++dropped) {
+    const auto worst = std::max_element(loop_chi2.begin(), loop_chi2.end());
     if (*worst < Gate(e)) return false;
-    links.erase(links.begin() + (worst - trial.loop_chi2.begin()));
+    links.erase(links.begin() + (worst - loop_chi2.begin()));
     const double gate = Gate(e * static_cast<int>(links.size()));
-    trial = TryAgainstMap(links, gate);
+    MapTrial trial = TryAgainstMap(links, gate);
     if (trial.minimize.solved && trial.increase < gate) {
       ++stats_.pruned;
       records_[c].survivors = links;
-      map_->KeepTrial(Significant());
-      scale_.SetClusterSample(c, trial.increase,
-                              e * static_cast<int>(links.size()));
-      Accept(c, false);
+      AcceptTrial(c, trial.increase);
       return true;
     }
+    solved = trial.minimize.solved;
+    loop_chi2 = std::move(trial.loop_chi2);
   }
   return false;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::AcceptTrial(int c, double increase) {
+  map_->KeepTrial(Significant());
+  scale_.SetClusterSample(
+      c, increase, Pose::kDof * static_cast<int>(records_[c].survivors.size()));
+  Accept(c, false);
 }
 
 template <class Pose>
@@ -305,9 +312,7 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
   const int wide = kWideRadiusFactor * options_.map_radius;
   const MapTrial trial = TryAgainstMap(links, gate);
   if (trial.minimize.solved && trial.increase < gate) {
-    map_->KeepTrial(Significant());
-    scale_.SetClusterSample(c, trial.increase, dof);
-    Accept(c, false);
+    AcceptTrial(c, trial.increase);
     return;
   }
   if (Prune(c, trial)) return;
@@ -347,8 +352,7 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
     this->CountSolves(1);
     const MapTrial without = map_->Try(links, wide);
     if (without.minimize.solved && without.increase < gate) {
-      map_->KeepTrial(Significant());
-      scale_.SetClusterSample(c, without.increase, dof);
+      AcceptTrial(c, without.increase);
       for (const int r : removed) {
         ++stats_.reversals;
         records_[r].status = Status::kSetAside;
@@ -356,7 +360,6 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
         touched_.push_back(r);
       }
       reopen_needed_ = true;
-      Accept(c, false);
       return;
     }
   }
