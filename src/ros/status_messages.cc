@@ -10,20 +10,9 @@ void SetVerifierState(const rrr::OnlineVerifier<Pose>& verifier,
                       rrr_slam::GetStatus::Response* status) {
   status->keyframes = verifier.graph().num_poses();
   status->candidates = verifier.num_candidates();
-  status->accepted = status->rejected = status->pending = 0;
-  for (int c = 0; c < verifier.num_candidates(); ++c) {
-    switch (verifier.state(c)) {
-      case rrr::LoopState::kAccepted:
-        ++status->accepted;
-        break;
-      case rrr::LoopState::kRejected:
-        ++status->rejected;
-        break;
-      case rrr::LoopState::kPending:
-        ++status->pending;
-        break;
-    }
-  }
+  status->accepted = verifier.num_in_state(rrr::LoopState::kAccepted);
+  status->rejected = verifier.num_in_state(rrr::LoopState::kRejected);
+  status->pending = verifier.num_in_state(rrr::LoopState::kPending);
   status->waiting = verifier.num_waiting();
   status->clusters = verifier.num_clusters();
   status->noise_scale = verifier.noise_scale();

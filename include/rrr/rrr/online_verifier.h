@@ -3,6 +3,7 @@
 #ifndef RRR_RRR_ONLINE_VERIFIER_H_
 #define RRR_RRR_ONLINE_VERIFIER_H_
 
+#include <array>
 #include <functional>
 #include <map>
 #include <string>
@@ -80,6 +81,10 @@ class OnlineVerifier {
   LoopState state(int candidate) const {
     return candidates_.at(candidate).state;
   }
+  // How many candidates are in `state` now (kept as states change).
+  int num_in_state(LoopState state) const {
+    return count_by_state_[static_cast<int>(state)];
+  }
   // The candidate's loop index in graph().loops(), or -1 while it waits.
   int loop_of(int candidate) const { return candidates_.at(candidate).loop; }
   // The candidate's end ids as given to AddLoop.
@@ -118,7 +123,8 @@ class OnlineVerifier {
   int max_future_poses_, max_waiting_;
   PoseGraph<Pose> graph_;
   std::vector<Candidate> candidates_;
-  std::vector<int> waiting_;  // candidate numbers
+  std::array<int, 3> count_by_state_{};  // by LoopState
+  std::vector<int> waiting_;             // candidate numbers
   // Candidate numbers by their pair of end ids, to find duplicates.
   std::map<std::pair<PoseId, PoseId>, std::vector<int>> by_pair_;
   std::vector<int> candidate_of_loop_;  // graph loop index -> candidate

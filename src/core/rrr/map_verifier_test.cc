@@ -47,9 +47,17 @@ TEST(MapVerifier, AcceptsNoFalseLoopOfASpoiledWorld) {
         static_cast<int>(w.graph.loops().size() - w.false_loops.size());
     EXPECT_GE(true_accepted, 0.95 * true_loops) << "group " << group;
     EXPECT_EQ(replay.verifier.num_waiting(), 0);
+    int by_scan[3] = {0, 0, 0};
     for (int c = 0; c < replay.verifier.num_candidates(); ++c) {
       EXPECT_NE(replay.verifier.state(c), LoopState::kPending);
+      ++by_scan[static_cast<int>(replay.verifier.state(c))];
     }
+    for (const LoopState s :
+         {LoopState::kPending, LoopState::kAccepted, LoopState::kRejected}) {
+      EXPECT_EQ(replay.verifier.num_in_state(s), by_scan[static_cast<int>(s)])
+          << ToString(s);
+    }
+    EXPECT_GT(replay.verifier.num_in_state(LoopState::kRejected), 0);
   }
 }
 

@@ -95,6 +95,7 @@ int OnlineVerifier<Pose>::AddLoop(PoseId a, PoseId b, const Pose& z,
   }
   same_pair.push_back(num_candidates());
   candidates_.push_back(Candidate{a, b, z, information});
+  ++count_by_state_[static_cast<int>(LoopState::kPending)];
   waiting_.push_back(num_candidates() - 1);
   ApplyWaiting();
   return num_candidates() - 1;
@@ -159,6 +160,8 @@ void OnlineVerifier<Pose>::SetState(int candidate, LoopState state,
   Candidate& c = candidates_[candidate];
   if (c.state == state) return;
   changes->push_back({candidate, c.state, state});
+  --count_by_state_[static_cast<int>(c.state)];
+  ++count_by_state_[static_cast<int>(state)];
   c.state = state;
 }
 
