@@ -28,8 +28,11 @@ struct FalseLoopOptions {
 // random (|i - j| > 1), with a measurement drawn from x, y (, z) ~ N(0, 0.3 m)
 // and each rotation angle ~ N(0, 10°), and the information matrix of the
 // graph's first loop (of its first odometry edge if it has no loop). Returns
-// the indices in graph->loops() of the added loops. The same seed gives the
-// same loops. Throws std::invalid_argument if the options do not validate.
+// the indices in graph->loops() of the added loops. No added loop shares its
+// pair of poses with another loop of the graph (old or added), so lists of
+// false loops by pose pair are exact. The same seed gives the same loops.
+// Throws std::invalid_argument if the options do not validate or free pairs
+// are too rare to find.
 template <class Pose>
 std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
                                const FalseLoopOptions& options);

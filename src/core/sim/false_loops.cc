@@ -1,8 +1,12 @@
 #include "rrr/sim/false_loops.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -12,6 +16,10 @@ namespace {
 
 constexpr double kTranslationSigma = 0.3;
 constexpr double kAngleSigma = 10.0 * M_PI / 180.0;
+// Draws per false loop before the graph is judged too full of loops.
+constexpr int kMostDrawsPerLoop = 1000;
+
+std::pair<int, int> PairOf(int a, int b) { return std::minmax(a, b); }
 
 Pose2 RandomMeasurement(std::mt19937_64& rng, const Pose2*) {
   std::normal_distribution<double> t(0.0, kTranslationSigma),
@@ -61,11 +69,32 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
   std::uniform_int_distribution<int> any(0, last_start - 1);
   std::uniform_int_distribution<int> offset(-options.local_range,
                                             options.local_range);
+  // Pose pairs that hold a loop: a false loop never shares one, so that a
+  // candidate's pair names it alone (false-loop lists are lists of pairs).
+  std::set<std::pair<int, int>> taken;
+  for (const auto& loop : graph->loops())
+    taken.insert(PairOf(loop.from, loop.to));
+  const auto group_fits = [&](int i, int j) {
+    for (int k = 0; k < options.group; ++k) {
+      if (taken.count(PairOf(i + k, j + k))) return false;
+    }
+    return true;
+  };
   std::vector<int> added;
+  const std::int64_t most_draws =
+      std::int64_t{kMostDrawsPerLoop} * options.count;
+  std::int64_t draws = 0;
   while (static_cast<int>(added.size()) < options.count) {
+    if (++draws > most_draws) {
+      throw std::invalid_argument("found no free pose pair for false loop " +
+                                  std::to_string(added.size() + 1) + " of " +
+                                  std::to_string(options.count) + " in " +
+                                  std::to_string(most_draws) + " draws");
+    }
     const int i = any(rng);
     const int j = options.local ? i + offset(rng) : any(rng);
     if (j < 0 || j >= last_start || std::abs(i - j) <= 1) continue;
+    if (!group_fits(i, j)) continue;
     // One measurement for the whole group: its links agree with each other
     // like a real revisit's.
     const Pose measurement =
@@ -79,6 +108,7 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
       loop.measurement = measurement;
       loop.information = information;
       graph->AddEdge(loop);
+      taken.insert(PairOf(loop.from, loop.to));
       added.push_back(static_cast<int>(graph->loops().size()) - 1);
     }
   }

@@ -1,6 +1,10 @@
 // The false-loop generator and the grid world.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
+#include <utility>
+
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/sim/false_loops.h"
@@ -55,6 +59,40 @@ TEST(AddFalseLoops, LocalAndGroupedVariants) {
       EXPECT_EQ(loop.to, g.loops()[added[k - 1]].to + 1);
     }
   }
+}
+
+TEST(AddFalseLoops, NeverSharesAPairOfPosesWithAnotherLoop) {
+  // Loops on every pair 2..4 poses apart except (10, 13) and (12, 14): local
+  // false loops within 4 poses have these two pairs left.
+  auto g = Chain(30);
+  Constraint<Pose2> loop;
+  for (int i = 0; i < 30; ++i) {
+    for (int j = i + 2; j <= std::min(i + 4, 29); ++j) {
+      if ((i == 10 && j == 13) || (i == 12 && j == 14)) continue;
+      loop.from = i;
+      loop.to = j;
+      g.AddEdge(loop);
+    }
+  }
+  const size_t true_loops = g.loops().size();
+  FalseLoopOptions options;
+  options.local = true;
+  options.local_range = 4;
+  options.count = 2;
+  auto spoiled = g;
+  const auto added = AddFalseLoops(&spoiled, options);
+  ASSERT_EQ(added.size(), 2u);
+  std::set<std::pair<int, int>> pairs;
+  for (const int k : added) {
+    const auto& e = spoiled.loops()[k];
+    pairs.insert(std::minmax(e.from, e.to));
+  }
+  EXPECT_EQ(pairs, (std::set<std::pair<int, int>>{{10, 13}, {12, 14}}));
+  EXPECT_EQ(spoiled.loops().size(), true_loops + 2);
+  // A third has no free pair: a clear error, not an endless draw.
+  options.count = 3;
+  auto full = g;
+  EXPECT_THROW(AddFalseLoops(&full, options), std::invalid_argument);
 }
 
 TEST(AddFalseLoops, Works3DAndRejectsBadOptions) {
