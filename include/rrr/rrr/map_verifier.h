@@ -48,14 +48,17 @@ struct MapVerifierStats {
 //     empty is rejected for good.
 //  2. Against the map: Δ, the increase of the map's minimal error when the
 //     surviving links S join it, must stay below s·χ²(α, e·|S|), the
-//     redundancy S adds. Δ is bounded from above by S's error at the map's
-//     estimate (no solve) and by a minimization over the junctions within
-//     `map_radius` hops of S's ends (MaintainedMap::Try); S is accepted when
-//     a bound passes.
+//     redundancy S adds, and every link's d²_l below s·χ²(α, e) (as in
+//     step 1: a cluster's sum must not hide one link the map refutes). Both
+//     are checked at the map's estimate (no solve; S's error there bounds Δ
+//     from above) and then after a minimization over the junctions within
+//     `map_radius` hops of S's ends (MaintainedMap::Try); S is accepted
+//     when either passes.
 //  3. Otherwise, while the trial leaves S's worst link with d²_l ≥
 //     s·χ²(α, e), that link is dropped and the rest is tried (at most
 //     kMostPrunedLinks links): odometry alone can absorb a false link that
-//     the map refutes. If the rest fits, it is accepted without them.
+//     the map refutes. If the rest fits (step 2's test), it is accepted
+//     without them.
 //  4. Otherwise S conflicts with the map. The accepted clusters that the
 //     local solve strains more than it leaves S unsatisfied (each error
 //     normalized by its gate, as RRR's consistency index) are set aside one
@@ -135,6 +138,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // link's d²_l is over s·χ²(α, e), drops it and tries the rest; if the rest
   // fits, it becomes the survivors and `c` is accepted (returns true).
   bool Prune(int c, const MapTrial& failed);
+  // Whether every d²_l of `loop_chi2` is under s·χ²(α, e).
+  bool EachLinkFits(const std::vector<double>& loop_chi2) const;
+  // Whether `trial` solved with Δ under `gate` and every link fitting.
+  bool Fits(const MapTrial& trial, double gate) const;
   // Accepts `c` with the survivors the last trial tried, which raised the
   // map's minimal error by `increase`: keeps the trial's estimate and takes
   // the increase as c's noise-scale sample.

@@ -257,6 +257,20 @@ MapTrial MapVerifier<Pose>::TryAgainstMap(const std::vector<int>& links,
 }
 
 template <class Pose>
+bool MapVerifier<Pose>::EachLinkFits(
+    const std::vector<double>& loop_chi2) const {
+  const double one_link = Gate(Pose::kDof);
+  return std::all_of(loop_chi2.begin(), loop_chi2.end(),
+                     [&](double d2) { return d2 < one_link; });
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::Fits(const MapTrial& trial, double gate) const {
+  return trial.minimize.solved && trial.increase < gate &&
+         EachLinkFits(trial.loop_chi2);
+}
+
+template <class Pose>
 bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
   const int e = Pose::kDof;
   std::vector<int> links = records_[c].survivors;
@@ -269,7 +283,7 @@ bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
     links.erase(links.begin() + (worst - loop_chi2.begin()));
     const double gate = Gate(e * static_cast<int>(links.size()));
     MapTrial trial = TryAgainstMap(links, gate);
-    if (trial.minimize.solved && trial.increase < gate) {
+    if (Fits(trial, gate)) {
       ++stats_.pruned;
       records_[c].survivors = links;
       AcceptTrial(c, trial.increase);
@@ -300,10 +314,13 @@ template <class Pose>
 void MapVerifier<Pose>::JudgeAgainstMap(int c) {
   const int e = Pose::kDof;
   const std::vector<int>& links = records_[c].survivors;
-  const double gate = Gate(e * static_cast<int>(links.size()));
-  const double at_estimate = ClusterChi2AtEstimate(c);
   const int dof = e * static_cast<int>(links.size());
-  if (at_estimate < gate) {
+  const double gate = Gate(dof);
+  std::vector<double> link_chi2;
+  for (const int loop : links) link_chi2.push_back(map_->LoopChi2(loop));
+  const double at_estimate =
+      std::accumulate(link_chi2.begin(), link_chi2.end(), 0.0);
+  if (at_estimate < gate && EachLinkFits(link_chi2)) {
     ++stats_.quick_accepts;
     scale_.SetClusterSample(c, at_estimate, dof);
     Accept(c, true);
@@ -311,7 +328,7 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
   }
   const int wide = kWideRadiusFactor * options_.map_radius;
   const MapTrial trial = TryAgainstMap(links, gate);
-  if (trial.minimize.solved && trial.increase < gate) {
+  if (Fits(trial, gate)) {
     AcceptTrial(c, trial.increase);
     return;
   }
@@ -351,7 +368,7 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
     ++stats_.trials;
     this->CountSolves(1);
     const MapTrial without = map_->Try(links, wide);
-    if (without.minimize.solved && without.increase < gate) {
+    if (Fits(without, gate)) {
       AcceptTrial(c, without.increase);
       for (const int r : removed) {
         ++stats_.reversals;

@@ -162,6 +162,31 @@ TEST(MapVerifier, DropsTheLinkOfAClusterThatOnlyTheMapRefutes) {
   EXPECT_EQ(stats.reversals, 0);
 }
 
+TEST(MapVerifier, EveryLinkOfAnAcceptedClusterFitsTheMap) {
+  // As above, but C has twelve true links at 100-111, whose ends are all
+  // tied, and F at 112 is 0.95 m to the side. Alone with the odometry F
+  // bends two soft steps and a link and fits; in the map only one step gives
+  // way, and F's d²_l is over the one-link gate while Δ of all thirteen
+  // links is under theirs: F is dropped, the rest accepted.
+  Circle circle(3, 100.0);
+  circle.AddLoops(100, kLap + 100, 20, 0);
+  circle.AddLoops(100, 2 * kLap + 100, 12, 0);
+  circle.AddLoops(kLap + 100, 2 * kLap + 100, 12, 0);
+  const int f = static_cast<int>(circle.graph.loops().size());
+  circle.AddLoop(
+      kLap + 112, 2 * kLap + 112,
+      circle.truth[kLap + 112].between(circle.truth[2 * kLap + 112]) *
+          Pose2(0.0, 0.95, 0.0));
+  RrrOptions options;
+  options.noise_scale = 1.0;
+  MapVerifierStats stats;
+  const Verdict verdict =
+      VerifyWithMap<Pose2>(circle.graph, options, nullptr, &stats);
+  EXPECT_EQ(verdict.rejected, (std::vector<int>{f}));
+  EXPECT_EQ(stats.pruned, 1);
+  EXPECT_EQ(stats.reversals, 0);
+}
+
 TEST(MapVerifier, APosterioriScaleFollowsTheInformationMatrices) {
   // Information k times larger with gates k times looser: the same decisions
   // and map, each error k times larger.
