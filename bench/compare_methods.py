@@ -14,11 +14,13 @@ per dataset (precision, recall and ATE by method and set) into OUT.
 A run that takes longer than --timeout seconds is stopped and reported as
 such (the published procedure needs hours on city10000 with 1000 false
 loops). With --reuse, a method whose report is already in OUT from an earlier
-run on the same spoiled set is scored from it, not run again (so one method
-can be re-run after a change while the others' runs are kept); a run that was
-stopped at a timeout at least as long is reported stopped again.
+run on the same spoiled set (same bytes) is scored from it, not run again (so
+one method can be re-run after a change while the others' runs are kept); a
+run on it that was stopped at a timeout at least as long is reported stopped
+again.
 """
 import argparse
+import hashlib
 import json
 import pathlib
 import subprocess
@@ -39,21 +41,26 @@ def run_method(spoiled, window, run_dir, method, timeout, reuse):
     run_dir.mkdir(parents=True, exist_ok=True)
     out_map, report = run_dir / "verified.g2o", run_dir / "report.json"
     stopped = run_dir / "stopped"
+    # Reused only if made by this script on this very input.
+    digest = hashlib.sha256(spoiled.read_bytes()).hexdigest()
     if reuse and report.exists() and out_map.exists():
         result = common.read_json(report)
-        if "peak_rss_mb" in result:  # written by this script, not by rrr alone
+        if "peak_rss_mb" in result and result.get("input_sha256") == digest:
             return result, out_map
-    if reuse and stopped.exists() and float(stopped.read_text()) >= timeout:
-        return None
+    if reuse and stopped.exists():
+        timeout_then, _, digest_then = stopped.read_text().partition(" ")
+        if float(timeout_then) >= timeout and digest_then.strip() == digest:
+            return None
     stopped.unlink(missing_ok=True)
     try:
         _, peak = common.run_measured("verify", spoiled, "--window", window, "--output", out_map,
                                       "--report", report, *METHODS[method], timeout=timeout)
     except subprocess.TimeoutExpired:
-        stopped.write_text(f"{timeout}\n")
+        stopped.write_text(f"{timeout} {digest}\n")
         return None
     result = common.read_json(report)
     result["peak_rss_mb"] = peak
+    result["input_sha256"] = digest
     report.write_text(json.dumps(result, indent=1))
     return result, out_map
 
