@@ -316,8 +316,9 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
   const std::vector<int>& links = records_[c].survivors;
   const int dof = e * static_cast<int>(links.size());
   const double gate = Gate(dof);
-  std::vector<double> link_chi2;
-  for (const int loop : links) link_chi2.push_back(map_->LoopChi2(loop));
+  std::vector<double> link_chi2(links.size());
+  std::transform(links.begin(), links.end(), link_chi2.begin(),
+                 [&](int loop) { return map_->LoopChi2(loop); });
   const double at_estimate =
       std::accumulate(link_chi2.begin(), link_chi2.end(), 0.0);
   if (at_estimate < gate && EachLinkFits(link_chi2)) {
