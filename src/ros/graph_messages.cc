@@ -86,14 +86,16 @@ rrr_slam::Decisions DecisionsMsg(
 
 template <class Pose>
 nav_msgs::Path PathMsg(const std::vector<Pose>& map,
-                       const std::vector<ros::Time>& stamps,
+                       const std::vector<std::int64_t>& stamps_ns,
                        const std::string& frame) {
   nav_msgs::Path path;
-  path.header.stamp = stamps.empty() ? ros::Time::now() : stamps.back();
+  path.header.stamp = stamps_ns.empty()
+                          ? ros::Time::now()
+                          : ros::Time().fromNSec(stamps_ns.back());
   path.header.frame_id = frame;
   for (size_t k = 0; k < map.size(); ++k) {
     geometry_msgs::PoseStamped p;
-    p.header.stamp = stamps[k];
+    p.header.stamp.fromNSec(stamps_ns[k]);
     p.header.frame_id = frame;
     p.pose = ToRos(map[k]);
     path.poses.push_back(p);
@@ -161,7 +163,7 @@ rrr_slam::AcceptedGraph AcceptedGraphMsg(
       const rrr::OnlineVerifier<Pose>&,                             \
       const std::vector<rrr::DecisionChange>&, const std::string&); \
   template nav_msgs::Path PathMsg(const std::vector<Pose>&,         \
-                                  const std::vector<ros::Time>&,    \
+                                  const std::vector<std::int64_t>&, \
                                   const std::string&);              \
   template visualization_msgs::MarkerArray GraphMarkers(            \
       const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,   \

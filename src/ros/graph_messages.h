@@ -5,9 +5,9 @@
 #define RRR_ROS_GRAPH_MESSAGES_H_
 
 #include <nav_msgs/Path.h>
-#include <ros/time.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,10 +25,10 @@ rrr_slam::Decisions DecisionsMsg(
     const std::vector<rrr::DecisionChange>& changes, const std::string& frame);
 
 // The map as a path: one pose per keyframe, stamped with its keyframe's
-// stamp (`stamps` has one per pose of `map`).
+// stamp (`stamps_ns`, nanoseconds, has one per pose of `map`).
 template <class Pose>
 nav_msgs::Path PathMsg(const std::vector<Pose>& map,
-                       const std::vector<ros::Time>& stamps,
+                       const std::vector<std::int64_t>& stamps_ns,
                        const std::string& frame);
 
 // rviz markers: the odometry chain and poses of `map`, and each candidate

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <future>
 
@@ -78,7 +80,8 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
       private_nh_(private_nh),
       verifier_(MakeVerifier<Pose>(options.rrr)),
       odometry_noise_(PerUnitInformation<Pose>(options),
-                      options.odometry_min_motion) {
+                      options.odometry_min_motion),
+      keyframe_stamps_(std::llround(options.stamp_tolerance * 1e9)) {
   status_.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
   SetVerifierState(*verifier_, &status_);
@@ -130,7 +133,7 @@ void VerifierNode<Pose>::Resume() {
     const rrr::ResumeSummary summary = store_->Resume(
         verifier_.get(),
         [this](rrr::PoseId, const rrr::KeyframeRecord<Pose>& keyframe) {
-          keyframe_stamps_.push_back(ros::Time().fromNSec(keyframe.stamp_ns));
+          keyframe_stamps_.Append(keyframe.stamp_ns);
           keyframe_odom_.push_back(keyframe.odometry_pose);
           keyframe_covariance_ = keyframe.covariance;
         });
@@ -146,7 +149,7 @@ void VerifierNode<Pose>::Resume() {
     status_.updates = summary.updates;
     if (summary.keyframes > 0) {
       resumed_ = true;
-      resumed_until_ = keyframe_stamps_.back();
+      resumed_until_.fromNSec(keyframe_stamps_.newest());
       RecomputeMap();
       last_accepted_ = verifier_->AcceptedLoops();
     }
@@ -371,13 +374,12 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
     ++status_.inputs_already_recorded;
     return;
   }
-  if (!keyframe_stamps_.empty() &&
-      msg->header.stamp < keyframe_stamps_.back()) {
+  const auto stamp_ns = static_cast<std::int64_t>(msg->header.stamp.toNSec());
+  if (!keyframe_stamps_.empty() && stamp_ns < keyframe_stamps_.newest()) {
     return Invalid(kOdometry, msg->header.seq,
                    "its stamp is older than the last keyframe's");
   }
-  const rrr::KeyframeRecord<Pose> record{
-      static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose, covariance};
+  const rrr::KeyframeRecord<Pose> record{stamp_ns, pose, covariance};
   if (keyframe_odom_.empty()) {
     verifier_->AddFirstPose(0, pose);
     if (store_) store_->RecordFirstKeyframe(0, record);
@@ -414,7 +416,7 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   }
   keyframe_covariance_ = covariance;
   keyframe_odom_.push_back(pose);
-  keyframe_stamps_.push_back(msg->header.stamp);
+  keyframe_stamps_.Append(stamp_ns);
   new_keyframes_ = true;
   rrr_slam::Keyframe keyframe;
   keyframe.header.stamp = msg->header.stamp;
@@ -423,24 +425,6 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   keyframe.pose = msg->pose.pose;
   keyframe_pub_.publish(keyframe);
   ResolveStampedLoops();
-}
-
-template <class Pose>
-int VerifierNode<Pose>::KeyframeAt(const ros::Time& stamp) const {
-  if (keyframe_stamps_.empty() || stamp > keyframe_stamps_.back()) return -2;
-  const auto it =
-      std::lower_bound(keyframe_stamps_.begin(), keyframe_stamps_.end(), stamp);
-  int best = -1;
-  double best_dt = options_.stamp_tolerance;
-  for (const auto c : {it - 1, it}) {
-    if (c < keyframe_stamps_.begin() || c >= keyframe_stamps_.end()) continue;
-    const double dt = std::abs((*c - stamp).toSec());
-    if (dt <= best_dt) {
-      best_dt = dt;
-      best = static_cast<int>(c - keyframe_stamps_.begin());
-    }
-  }
-  return best;
 }
 
 template <class Pose>
@@ -469,8 +453,10 @@ template <class Pose>
 void VerifierNode<Pose>::ResolveStampedLoops() {
   auto keep = stamped_waiting_.begin();
   for (auto& msg : stamped_waiting_) {
-    const int from = KeyframeAt(msg.from_stamp), to = KeyframeAt(msg.to_stamp);
-    if (from == -2 || to == -2) {
+    const int from = keyframe_stamps_.Find(msg.from_stamp.toNSec()),
+              to = keyframe_stamps_.Find(msg.to_stamp.toNSec());
+    if (from == rrr::KeyframeStamps::kNotYet ||
+        to == rrr::KeyframeStamps::kNotYet) {
       *keep++ = std::move(msg);
     } else if (from < 0 || to < 0) {
       Skip(msg.header.seq, rrr::CandidateDefect::kUnknownPose,
@@ -613,7 +599,8 @@ void VerifierNode<Pose>::PublishDecisions(
 
 template <class Pose>
 void VerifierNode<Pose>::PublishPath() {
-  path_pub_.publish(PathMsg(map_, keyframe_stamps_, options_.map_frame));
+  path_pub_.publish(
+      PathMsg(map_, keyframe_stamps_.stamps(), options_.map_frame));
 }
 
 template <class Pose>

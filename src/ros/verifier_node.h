@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "node_options.h"
+#include "rrr/graph/keyframe_stamps.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/rrr/online_verifier.h"
 #include "rrr/session/session_store.h"
@@ -68,9 +69,6 @@ class VerifierNode {
   void WorkerLoop();
   void Process(const nav_msgs::Odometry::ConstPtr& msg);
   void Process(const rrr_slam::LoopClosure::ConstPtr& msg);
-  // Keyframe index nearest to `stamp` within the tolerance: -1 if none can
-  // ever be, -2 if one may still come.
-  int KeyframeAt(const ros::Time& stamp) const;
   void AddLoopCandidate(const rrr_slam::LoopClosure& msg, rrr::PoseId from,
                         rrr::PoseId to);
   void ResolveStampedLoops();
@@ -115,7 +113,7 @@ class VerifierNode {
   bool resumed_ = false;
   const rrr::OdometryNoiseModel<Pose> odometry_noise_;
   rrr::OdometryCovariance keyframe_covariance_;  // of the last keyframe
-  std::vector<ros::Time> keyframe_stamps_;
+  rrr::KeyframeStamps keyframe_stamps_;
   std::vector<Pose> keyframe_odom_;  // odometry pose of each keyframe
   std::vector<Pose> map_;            // corrected pose of each keyframe
   std::vector<int> last_accepted_;
