@@ -44,8 +44,11 @@ struct MapVerifierStats {
 //     the poses its loops touch (the odometry between them condensed). It
 //     passes when D² < s·χ²(α, e·|C|), e·|C| being the redundancy of
 //     odometry plus C; while it fails, the link with the largest d²_l is
-//     dropped. Then links with d²_l ≥ s·χ²(α, e) are dropped; a cluster left
-//     empty is rejected for good.
+//     dropped. Then links with d²_l ≥ s·χ²(α, e) are dropped. If none is
+//     left, the links dropped before the drop that lowered D² the most go
+//     through step 1 alone, once: a cluster can join a revisit and a false
+//     group that looks like one, and the revisit can go first. A cluster
+//     left empty is rejected for good.
 //  2. Against the map: Δ, the increase of the map's minimal error when the
 //     surviving links S join it, must stay below s·χ²(α, e·|S|), the
 //     redundancy S adds, and every link's d²_l below s·χ²(α, e) (as in
@@ -129,6 +132,11 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // The pose index at which pending cluster `c` is judged, or -1 if not yet.
   int DecisionPose(int c, bool finish) const;
   void JudgeCluster(int c);
+  // Step 1's greedy on `links`: the survivors, empty if none; sets
+  // `*left_after_largest_fall` (if given) to the links left after the drop
+  // that lowered D² the most.
+  std::vector<int> IntraSurvivors(std::vector<int> links,
+                                  std::vector<int>* left_after_largest_fall);
   // Steps 2 to 4 for a cluster that passed step 1.
   void JudgeAgainstMap(int c);
   // Tries `links` against the map within map_radius hops, and within

@@ -205,31 +205,55 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
 }
 
 template <class Pose>
-void MapVerifier<Pose>::JudgeCluster(int c) {
-  const std::vector<int>& members = clustering_.clusters()[c].loops;
-  ClusterRecord& record = records_[c];
-  // Drop the worst link until the rest is consistent with the odometry.
+std::vector<int> MapVerifier<Pose>::IntraSurvivors(
+    std::vector<int> links, std::vector<int>* left_after_largest_fall) {
   const int e = Pose::kDof;
-  std::vector<int> links = members;
-  record.survivors.clear();
-  record.judged_scale = NoiseScaleAt(decision_pose_);
+  double previous_total = 0.0, largest_fall = 0.0;
   while (!links.empty()) {
     ++stats_.intra_solves;
     this->CountSolves(1);
     const CondensedErrors intra =
         SolveCondensed(this->graph(), chain_, links, options_.convergence);
     if (!intra.minimize.converged) ++stats_.not_converged;
-    const std::vector<double>& d2 = intra.errors.loop_chi2;
-    if (intra.errors.solved &&
-        intra.errors.total_chi2 < Gate(e * static_cast<int>(links.size()))) {
-      for (size_t k = 0; k < links.size(); ++k) {
-        if (d2[k] < Gate(e)) record.survivors.push_back(links[k]);
-      }
-      break;
-    }
     if (!intra.errors.solved) break;
+    const std::vector<double>& d2 = intra.errors.loop_chi2;
+    const double total = intra.errors.total_chi2;
+    if (left_after_largest_fall && previous_total - total > largest_fall) {
+      largest_fall = previous_total - total;
+      *left_after_largest_fall = links;
+    }
+    previous_total = total;
+    if (total < Gate(e * static_cast<int>(links.size()))) {
+      std::vector<int> survivors;
+      for (size_t k = 0; k < links.size(); ++k) {
+        if (d2[k] < Gate(e)) survivors.push_back(links[k]);
+      }
+      return survivors;
+    }
     links.erase(links.begin() +
                 (std::max_element(d2.begin(), d2.end()) - d2.begin()));
+  }
+  return {};
+}
+
+template <class Pose>
+void MapVerifier<Pose>::JudgeCluster(int c) {
+  const std::vector<int>& members = clustering_.clusters()[c].loops;
+  ClusterRecord& record = records_[c];
+  record.judged_scale = NoiseScaleAt(decision_pose_);
+  std::vector<int> left;  // the links left after the largest fall of D²
+  record.survivors = IntraSurvivors(members, &left);
+  if (record.survivors.empty() && !left.empty() &&
+      left.size() < members.size()) {
+    // A revisit that a false group joined may have gone first: the links
+    // dropped before D² fell most, alone.
+    std::vector<int> dropped_first;
+    for (const int loop : members) {
+      if (std::find(left.begin(), left.end(), loop) == left.end()) {
+        dropped_first.push_back(loop);
+      }
+    }
+    record.survivors = IntraSurvivors(dropped_first, nullptr);
   }
   if (record.survivors.empty()) {
     record.status = Status::kRejected;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -59,6 +60,27 @@ TEST(MapVerifier, AcceptsNoFalseLoopOfASpoiledWorld) {
     }
     EXPECT_GT(replay.verifier.num_in_state(LoopState::kRejected), 0);
   }
+}
+
+TEST(MapVerifier, KeepsARevisitThatAFalseGroupJoins) {
+  // In this world (groups of ten false loops, seed 8) a false group falls
+  // into one cluster with a revisit, and step 1's greedy drops the revisit's
+  // links first; the second pass over them keeps the revisit.
+  GridWorldOptions world;
+  world.poses = 2000;
+  world.false_loops = 100;
+  world.group = 10;
+  world.seed = 8;
+  const SimulatedWorld w = SimulateGridWorld(world);
+  const Verdict verdict = VerifyWithMap(w.graph, RrrOptions());
+  std::vector<int> true_loops;
+  for (int k = 0; k < static_cast<int>(w.graph.loops().size()); ++k) {
+    if (std::find(w.false_loops.begin(), w.false_loops.end(), k) ==
+        w.false_loops.end()) {
+      true_loops.push_back(k);
+    }
+  }
+  EXPECT_EQ(verdict.accepted, true_loops);
 }
 
 TEST(MapVerifier, DecisionsDoNotDependOnWhenUpdatesRun) {
