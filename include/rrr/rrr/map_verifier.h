@@ -67,7 +67,10 @@ struct MapVerifierStats {
 //     normalized by its gate, as RRR's consistency index) are set aside one
 //     by one, the most strained first (at most kMostReversalsPerConflict);
 //     if S then fits the map, they stay out (reversals) and S is accepted,
-//     else they are restored and S is set aside.
+//     else they are restored. Then the links that the first trial left
+//     under s·χ²(α, e) are tried alone, once: a false group riding in a
+//     revisit fails link by link, in more links than step 3 drops. If they
+//     fit, they are accepted without the others, else S is set aside.
 //  5. Re-opening: after a reversal, and after each whole-map minimization
 //     (see RrrOptions::optimize_every), every set-aside cluster
 //     whose error at the map's estimate is under its gate is judged again,
@@ -146,6 +149,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // link's d²_l is over s·χ²(α, e), drops it and tries the rest; if the rest
   // fits, it becomes the survivors and `c` is accepted (returns true).
   bool Prune(int c, const MapTrial& failed);
+  // The end of step 4 for cluster `c`, whose survivors failed `failed`: tries
+  // the links that `failed` left under s·χ²(α, e) alone, once; if they fit,
+  // they become the survivors and `c` is accepted (returns true).
+  bool AcceptFittingLinks(int c, const MapTrial& failed);
   // Whether every d²_l of `loop_chi2` is under s·χ²(α, e).
   bool EachLinkFits(const std::vector<double>& loop_chi2) const;
   // Whether `trial` solved with Δ under `gate` and every link fitting.

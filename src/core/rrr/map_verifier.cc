@@ -320,6 +320,24 @@ bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
 }
 
 template <class Pose>
+bool MapVerifier<Pose>::AcceptFittingLinks(int c, const MapTrial& failed) {
+  const std::vector<int>& links = records_[c].survivors;
+  if (!failed.minimize.solved) return false;
+  std::vector<int> fitting;
+  for (size_t k = 0; k < links.size(); ++k) {
+    if (failed.loop_chi2[k] < Gate(Pose::kDof)) fitting.push_back(links[k]);
+  }
+  if (fitting.empty() || fitting.size() == links.size()) return false;
+  const double gate = Gate(Pose::kDof * static_cast<int>(fitting.size()));
+  const MapTrial trial = TryAgainstMap(fitting, gate);
+  if (!Fits(trial, gate)) return false;
+  ++stats_.pruned;
+  records_[c].survivors = fitting;
+  AcceptTrial(c, trial.increase);
+  return true;
+}
+
+template <class Pose>
 void MapVerifier<Pose>::AcceptTrial(int c, double increase) {
   map_->KeepTrial(Significant());
   scale_.SetClusterSample(
@@ -408,6 +426,7 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
   for (auto it = removed.rbegin(); it != removed.rend(); ++it) {
     map_->Add(records_[*it].survivors, wide, Significant());
   }
+  if (AcceptFittingLinks(c, trial)) return;
   SetAside(c);
 }
 
