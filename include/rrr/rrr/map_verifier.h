@@ -149,6 +149,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // link's d²_l is over s·χ²(α, e), drops it and tries the rest; if the rest
   // fits, it becomes the survivors and `c` is accepted (returns true).
   bool Prune(int c, const MapTrial& failed);
+  // Tries `part` of c's survivors against the map; if it fits (Fits), it
+  // becomes c's survivors and `c` is accepted (`*accepted`, counted as
+  // pruned). Returns the trial.
+  MapTrial TryPart(int c, const std::vector<int>& part, bool* accepted);
   // The end of step 4 for cluster `c`, whose survivors failed `failed`: tries
   // the links that `failed` left under s·χ²(α, e) alone, once; if they fit,
   // they become the survivors and `c` is accepted (returns true).

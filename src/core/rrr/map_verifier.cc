@@ -224,9 +224,10 @@ std::vector<int> MapVerifier<Pose>::IntraSurvivors(
     }
     previous_total = total;
     if (total < Gate(e * static_cast<int>(links.size()))) {
+      const double one_link = Gate(e);
       std::vector<int> survivors;
       for (size_t k = 0; k < links.size(); ++k) {
-        if (d2[k] < Gate(e)) survivors.push_back(links[k]);
+        if (d2[k] < one_link) survivors.push_back(links[k]);
       }
       return survivors;
     }
@@ -295,24 +296,33 @@ bool MapVerifier<Pose>::Fits(const MapTrial& trial, double gate) const {
 }
 
 template <class Pose>
+MapTrial MapVerifier<Pose>::TryPart(int c, const std::vector<int>& part,
+                                    bool* accepted) {
+  const double gate = Gate(Pose::kDof * static_cast<int>(part.size()));
+  MapTrial trial = TryAgainstMap(part, gate);
+  *accepted = Fits(trial, gate);
+  if (*accepted) {
+    ++stats_.pruned;
+    records_[c].survivors = part;
+    AcceptTrial(c, trial.increase);
+  }
+  return trial;
+}
+
+template <class Pose>
 bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
-  const int e = Pose::kDof;
+  const double one_link = Gate(Pose::kDof);
   std::vector<int> links = records_[c].survivors;
   std::vector<double> loop_chi2 = failed.loop_chi2;
   bool solved = failed.minimize.solved;
   for (int dropped = 0;
        dropped < kMostPrunedLinks && solved && links.size() > 1; ++dropped) {
     const auto worst = std::max_element(loop_chi2.begin(), loop_chi2.end());
-    if (*worst < Gate(e)) return false;
+    if (*worst < one_link) return false;
     links.erase(links.begin() + (worst - loop_chi2.begin()));
-    const double gate = Gate(e * static_cast<int>(links.size()));
-    MapTrial trial = TryAgainstMap(links, gate);
-    if (Fits(trial, gate)) {
-      ++stats_.pruned;
-      records_[c].survivors = links;
-      AcceptTrial(c, trial.increase);
-      return true;
-    }
+    bool accepted = false;
+    MapTrial trial = TryPart(c, links, &accepted);
+    if (accepted) return true;
     solved = trial.minimize.solved;
     loop_chi2 = std::move(trial.loop_chi2);
   }
@@ -321,20 +331,17 @@ bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
 
 template <class Pose>
 bool MapVerifier<Pose>::AcceptFittingLinks(int c, const MapTrial& failed) {
-  const std::vector<int>& links = records_[c].survivors;
   if (!failed.minimize.solved) return false;
+  const std::vector<int>& links = records_[c].survivors;
+  const double one_link = Gate(Pose::kDof);
   std::vector<int> fitting;
   for (size_t k = 0; k < links.size(); ++k) {
-    if (failed.loop_chi2[k] < Gate(Pose::kDof)) fitting.push_back(links[k]);
+    if (failed.loop_chi2[k] < one_link) fitting.push_back(links[k]);
   }
   if (fitting.empty() || fitting.size() == links.size()) return false;
-  const double gate = Gate(Pose::kDof * static_cast<int>(fitting.size()));
-  const MapTrial trial = TryAgainstMap(fitting, gate);
-  if (!Fits(trial, gate)) return false;
-  ++stats_.pruned;
-  records_[c].survivors = fitting;
-  AcceptTrial(c, trial.increase);
-  return true;
+  bool accepted = false;
+  TryPart(c, fitting, &accepted);
+  return accepted;
 }
 
 template <class Pose>
