@@ -136,12 +136,25 @@ struct Circle {
     info.diagonal() << 100.0, 100.0, 1e4;
     graph.AddEdge({a, b, measurement, info});
   }
-  // The map procedure's verdict with the information matrices as given
-  // (s = 1); sets `*stats`.
-  Verdict VerifyAtUnitScale(MapVerifierStats* stats) const {
+  // Adds a loop (a, b) measured `sideways` m to the side of the truth;
+  // returns its loop index.
+  int AddShiftedLoop(int a, int b, double sideways) {
+    const int index = static_cast<int>(graph.loops().size());
+    AddLoop(a, b, truth[a].between(truth[b]) * Pose2(0.0, sideways, 0.0));
+    return index;
+  }
+  // Runs the map procedure with the information matrices as given (s = 1)
+  // and expects exactly the loops `rejected` to be rejected, dropped by one
+  // prune and no reversal.
+  void ExpectPrunedAlone(const std::vector<int>& rejected) const {
     RrrOptions options;
     options.noise_scale = 1.0;
-    return VerifyWithMap<Pose2>(graph, options, nullptr, stats);
+    MapVerifierStats stats;
+    const Verdict verdict =
+        VerifyWithMap<Pose2>(graph, options, nullptr, &stats);
+    EXPECT_EQ(verdict.rejected, rejected);
+    EXPECT_EQ(stats.pruned, 1);
+    EXPECT_EQ(stats.reversals, 0);
   }
 };
 
@@ -176,16 +189,8 @@ TEST(MapVerifier, DropsTheLinkOfAClusterThatOnlyTheMapRefutes) {
   circle.AddLoops(100, kLap + 100, 20, 0);
   circle.AddLoops(100, 2 * kLap + 100, 12, 0);
   circle.AddLoops(kLap + 100, 2 * kLap + 100, 5, 0);
-  const int f = static_cast<int>(circle.graph.loops().size());
-  circle.AddLoop(
-      kLap + 112, 2 * kLap + 112,
-      circle.truth[kLap + 112].between(circle.truth[2 * kLap + 112]) *
-          Pose2(0.0, 1.5, 0.0));
-  MapVerifierStats stats;
-  const Verdict verdict = circle.VerifyAtUnitScale(&stats);
-  EXPECT_EQ(verdict.rejected, (std::vector<int>{f}));
-  EXPECT_EQ(stats.pruned, 1);
-  EXPECT_EQ(stats.reversals, 0);
+  const int f = circle.AddShiftedLoop(kLap + 112, 2 * kLap + 112, 1.5);
+  circle.ExpectPrunedAlone({f});
 }
 
 TEST(MapVerifier, DropsAFalseGroupThatRidesInARevisit) {
@@ -202,16 +207,9 @@ TEST(MapVerifier, DropsAFalseGroupThatRidesInARevisit) {
   circle.AddLoops(kLap + 120, 2 * kLap + 120, 5, 0);
   std::vector<int> group;
   for (int k = 112; k <= 116; ++k) {
-    group.push_back(static_cast<int>(circle.graph.loops().size()));
-    circle.AddLoop(kLap + k, 2 * kLap + k,
-                   circle.truth[kLap + k].between(circle.truth[2 * kLap + k]) *
-                       Pose2(0.0, 1.5, 0.0));
+    group.push_back(circle.AddShiftedLoop(kLap + k, 2 * kLap + k, 1.5));
   }
-  MapVerifierStats stats;
-  const Verdict verdict = circle.VerifyAtUnitScale(&stats);
-  EXPECT_EQ(verdict.rejected, group);
-  EXPECT_EQ(stats.pruned, 1);
-  EXPECT_EQ(stats.reversals, 0);
+  circle.ExpectPrunedAlone(group);
 }
 
 TEST(MapVerifier, EveryLinkOfAnAcceptedClusterFitsTheMap) {
@@ -224,16 +222,8 @@ TEST(MapVerifier, EveryLinkOfAnAcceptedClusterFitsTheMap) {
   circle.AddLoops(100, kLap + 100, 20, 0);
   circle.AddLoops(100, 2 * kLap + 100, 12, 0);
   circle.AddLoops(kLap + 100, 2 * kLap + 100, 12, 0);
-  const int f = static_cast<int>(circle.graph.loops().size());
-  circle.AddLoop(
-      kLap + 112, 2 * kLap + 112,
-      circle.truth[kLap + 112].between(circle.truth[2 * kLap + 112]) *
-          Pose2(0.0, 0.95, 0.0));
-  MapVerifierStats stats;
-  const Verdict verdict = circle.VerifyAtUnitScale(&stats);
-  EXPECT_EQ(verdict.rejected, (std::vector<int>{f}));
-  EXPECT_EQ(stats.pruned, 1);
-  EXPECT_EQ(stats.reversals, 0);
+  const int f = circle.AddShiftedLoop(kLap + 112, 2 * kLap + 112, 0.95);
+  circle.ExpectPrunedAlone({f});
 }
 
 TEST(MapVerifier, APosterioriScaleFollowsTheInformationMatrices) {
