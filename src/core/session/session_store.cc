@@ -115,9 +115,9 @@ void ForEachInput(SqliteDb* db,
   InputRow<Pose> row;
   while (query.Step()) {
     row.seq = query.Int(0);
-    const std::string at = "input " + std::to_string(row.seq);
+    const std::string at = "input " + std::to_string(row.seq) + ": ";
     const auto fail = [&](const std::string& problem) {
-      db->Fail(at + ": " + problem);
+      db->Fail(at + problem);
     };
     const std::int64_t kind = query.Int(1);
     if (kind < kFirstKeyframe || kind > kLoop) {
@@ -427,8 +427,16 @@ ResumeSummary SessionStore<Pose>::Resume(
     }
   };
   run_updates_through(0);
+  std::int64_t last_stamp_ns = std::numeric_limits<std::int64_t>::min();
   ForEachInput<Pose>(&db, [&](const InputRow<Pose>& row) {
     const std::string at = "input " + std::to_string(row.seq) + ": ";
+    if (row.kind != kLoop) {
+      if (row.keyframe.stamp_ns < last_stamp_ns) {
+        db.Fail(at + "keyframe " + std::to_string(row.pose_id) +
+                " is stamped before the keyframe it follows");
+      }
+      last_stamp_ns = row.keyframe.stamp_ns;
+    }
     try {
       if (row.kind == kFirstKeyframe) {
         verifier->AddFirstPose(row.pose_id, row.keyframe.odometry_pose);

@@ -229,5 +229,22 @@ TEST_F(SessionStoreTest, RefusesRowsThatAreNotInputs) {
       std::string::npos);
 }
 
+TEST_F(SessionStoreTest, RefusesKeyframesThatGoBackInTime) {
+  MapVerifier<Pose2> verifier{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, 100, 10);
+  }
+  Tamper(path_,
+         "UPDATE inputs SET stamp_ns = 0 WHERE seq = (SELECT MAX(seq) FROM "
+         "inputs WHERE pose_id = 50)");
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  const std::string error = ErrorOf([&] { store.Resume(&resumed, nullptr); });
+  EXPECT_EQ(error.rfind(path_, 0), 0u) << error;
+  EXPECT_NE(error.find("keyframe 50 is stamped before"), std::string::npos)
+      << error;
+}
+
 }  // namespace
 }  // namespace rrr
