@@ -40,15 +40,19 @@ struct MapVerifierStats {
 // new cluster). Ready clusters are judged one at a time, in the order of the
 // pose at which they became ready, against the map of odometry and the
 // clusters accepted so far:
-//  1. Intra-cluster: odometry plus the cluster C, minimized to convergence on
-//     the poses its loops touch (the odometry between them condensed). It
-//     passes when D² < s·χ²(α, e·|C|), e·|C| being the redundancy of
-//     odometry plus C; while it fails, the link with the largest d²_l is
-//     dropped. Then links with d²_l ≥ s·χ²(α, e) are dropped. If none is
-//     left, the links dropped before the drop that lowered D² the most go
-//     through step 1 alone, once: a cluster can join a revisit and a false
-//     group that looks like one, and the revisit can go first. A cluster
-//     left empty is rejected for good.
+//  1. Intra-cluster: first, the links the odometry refutes on their own
+//     (D² of the link minimized alone with the odometry, computed when it
+//     arrived, ≥ s·χ²(α, e)) are left out: with odometry taken as true they
+//     cannot be, and in a cluster they can make the greedy below drop a
+//     revisit's links before their own. Then odometry plus the rest C,
+//     minimized to convergence on the poses its loops touch (the odometry
+//     between them condensed). It passes when D² < s·χ²(α, e·|C|), e·|C|
+//     being the redundancy of odometry plus C; while it fails, the link
+//     with the largest d²_l is dropped. Then links with d²_l ≥ s·χ²(α, e) are
+//     dropped. If none is left, the links dropped before the drop that lowered
+//     D² the most go through step 1 alone, once: a cluster can join a revisit
+//     and a false group that looks like one, and the revisit can go first. A
+//     cluster left empty is rejected for good.
 //  2. Against the map: Δ, the increase of the map's minimal error when the
 //     surviving links S join it, must stay below s·χ²(α, e·|S|), the
 //     redundancy S adds, and every link's d²_l below s·χ²(α, e) (as in
@@ -67,16 +71,20 @@ struct MapVerifierStats {
 //     normalized by its gate, as RRR's consistency index) are set aside one
 //     by one, the most strained first (at most kMostReversalsPerConflict);
 //     if S then fits the map, they stay out (reversals) and S is accepted,
-//     else they are restored. Then the links that the first trial left
-//     under s·χ²(α, e) are tried alone, once: a false group riding in a
-//     revisit fails link by link, in more links than step 3 drops. If they
-//     fit, they are accepted without the others, else S is set aside.
+//     else they are restored. A cluster that lost links to the odometry in
+//     step 1 holds false loops, and its rest may be a false group's: it
+//     sets aside only clusters with fewer links in all than S. Then the links
+//     that the first trial left under s·χ²(α, e) are tried alone, once: a false
+//     group riding in a revisit fails link by link, in more links than step 3
+//     drops. If they fit, they are accepted without the others, else S is set
+//     aside.
 //  5. Re-opening: after a reversal, and after each whole-map minimization
 //     (see RrrOptions::optimize_every), every set-aside cluster
 //     whose error at the map's estimate is under its gate is judged again,
 //     every accepted cluster whose error is over it is judged again, and
 //     every cluster rejected in step 1 under a scale at most half of today's
-//     goes through step 1 again.
+//     goes through step 1 again, and so does every cluster accepted under a
+//     scale at least twice today's (it leaves the map while it is judged).
 // s is RrrOptions::noise_scale or, when that is 0, `noise_margin` times the
 // estimate of NoiseScaleEstimate from the loops that arrived before the pose
 // at which the cluster is judged; with an estimate, no cluster is judged
@@ -127,6 +135,7 @@ class MapVerifier : public OnlineVerifier<Pose> {
     std::vector<int> survivors;  // links kept by the intra-cluster test
     int ready_pose = -1;         // pose index at which it became ready
     double judged_scale = 0.0;   // s of its last intra-cluster test
+    bool refuted = false;        // some link refuted by the odometry alone
   };
 
   std::vector<DecisionChange> Judge(bool finish);
@@ -190,6 +199,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   Clustering clustering_;
   std::vector<ClusterRecord> records_;
   std::vector<int> pending_;  // clusters not judged yet
+  // Per loop: D² of the loop minimized alone with the odometry, or -1 if
+  // that solve failed.
+  std::vector<double> alone_chi2_;
   std::vector<int> touched_;  // clusters whose status changed
   OdometryChain<Pose> chain_;
   std::unique_ptr<MaintainedMap<Pose>> map_;

@@ -100,6 +100,7 @@ void MapVerifier<Pose>::Catch() {
     const CondensedErrors alone =
         SolveCondensed(graph, chain_, {loop}, options_.convergence);
     if (alone.errors.solved) scale_.AddLoopSample(alone.errors.total_chi2);
+    alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2 : -1.0);
     const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
     this->cluster_of_loop_.push_back(c);
     if (c == static_cast<int>(records_.size())) {
@@ -239,9 +240,15 @@ std::vector<int> MapVerifier<Pose>::IntraSurvivors(
 
 template <class Pose>
 void MapVerifier<Pose>::JudgeCluster(int c) {
-  const std::vector<int>& members = clustering_.clusters()[c].loops;
   ClusterRecord& record = records_[c];
   record.judged_scale = NoiseScaleAt(decision_pose_);
+  // A link that the odometry refutes on its own cannot join a true group.
+  std::vector<int> members;
+  const double one_link = Gate(Pose::kDof);
+  for (const int loop : clustering_.clusters()[c].loops) {
+    if (alone_chi2_[loop] < one_link) members.push_back(loop);
+  }
+  record.refuted = members.size() < clustering_.clusters()[c].loops.size();
   std::vector<int> left;  // the links left after the largest fall of D²
   record.survivors = IntraSurvivors(members, &left);
   if (record.survivors.empty() && !left.empty() &&
@@ -411,8 +418,11 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
     std::sort(strained.rbegin(), strained.rend());
   }
   std::vector<int> removed;
+  size_t removed_links = 0;
   for (const auto& [strain, a] : strained) {
     if (removed.size() == kMostReversalsPerConflict) break;
+    removed_links += records_[a].survivors.size();
+    if (records_[c].refuted && removed_links >= links.size()) break;
     map_->Remove(records_[a].survivors, wide, Significant());
     removed.push_back(a);
     ++stats_.trials;
@@ -494,6 +504,20 @@ void MapVerifier<Pose>::Reopen() {
       if (scale >= kRejudgeScaleRatio * record.judged_scale) {
         ++stats_.reopened;
         JudgeCluster(static_cast<int>(c));
+      }
+      continue;
+    }
+    if (record.status == Status::kAccepted &&
+        record.judged_scale >= kRejudgeScaleRatio * scale) {
+      // Accepted under a scale at least twice today's: judged again, its
+      // noise-scale sample kept until the new decision.
+      ++stats_.reopened;
+      map_->Remove(record.survivors, options_.map_radius, Significant());
+      record.status = Status::kSetAside;
+      touched_.push_back(static_cast<int>(c));
+      JudgeCluster(static_cast<int>(c));
+      if (record.status != Status::kAccepted) {
+        scale_.RemoveClusterSample(static_cast<int>(c));
       }
       continue;
     }
