@@ -14,6 +14,7 @@ set(RRR_CORE_SOURCES
   src/core/solver/block_cholesky.cc
   src/core/graph/candidate_defect.cc
   src/core/graph/keyframe_stamps.cc
+  src/core/graph/keyframe_track.cc
   src/core/graph/covariance.cc
   src/core/graph/odometry_chain.cc
   src/core/graph/odometry_noise.cc

@@ -81,7 +81,8 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
       verifier_(MakeVerifier<Pose>(options.rrr)),
       odometry_noise_(PerUnitInformation<Pose>(options),
                       options.odometry_min_motion),
-      keyframe_stamps_(std::llround(options.stamp_tolerance * 1e9)) {
+      keyframes_(options.keyframe_translation, options.keyframe_rotation,
+                 std::llround(options.stamp_tolerance * 1e9)) {
   status_.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
   SetVerifierState(*verifier_, &status_);
@@ -133,9 +134,7 @@ void VerifierNode<Pose>::Resume() {
     const rrr::ResumeSummary summary = store_->Resume(
         verifier_.get(),
         [this](rrr::PoseId, const rrr::KeyframeRecord<Pose>& keyframe) {
-          keyframe_stamps_.Append(keyframe.stamp_ns);
-          keyframe_odom_.push_back(keyframe.odometry_pose);
-          keyframe_covariance_ = keyframe.covariance;
+          keyframes_.Append(keyframe);
         });
     if (summary.differing_decisions > 0) {
       ROS_WARN(
@@ -149,7 +148,7 @@ void VerifierNode<Pose>::Resume() {
     status_.updates = summary.updates;
     if (summary.keyframes > 0) {
       resumed_ = true;
-      resumed_until_.fromNSec(keyframe_stamps_.newest());
+      resumed_until_.fromNSec(keyframes_.stamps().newest());
       RecomputeMap();
       last_accepted_ = verifier_->AcceptedLoops();
     }
@@ -233,7 +232,7 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
     }
     const std::vector<int> loops =
         req.with_candidates ? rrr::AllLoops(g) : verifier_->AcceptedLoops();
-    rrr::WriteG2o(g, map_, loops, out);
+    rrr::WriteG2o(g, keyframes_.map(), loops, out);
     if (req.with_candidates) {
       for (int c = 0; c < verifier_->num_candidates(); ++c) {
         const auto [a, b] = verifier_->ends_of(c);
@@ -374,33 +373,22 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
     ++status_.inputs_already_recorded;
     return;
   }
-  const auto stamp_ns = static_cast<std::int64_t>(msg->header.stamp.toNSec());
-  if (!keyframe_stamps_.empty() && stamp_ns < keyframe_stamps_.newest()) {
-    return Invalid(kOdometry, msg->header.seq,
-                   "its stamp is older than the last keyframe's");
+  const rrr::KeyframeRecord<Pose> reading{
+      static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose, covariance};
+  const auto judged = keyframes_.Judge(reading);
+  if (!judged.problem.empty()) {
+    return Invalid(kOdometry, msg->header.seq, judged.problem);
   }
-  const rrr::KeyframeRecord<Pose> record{stamp_ns, pose, covariance};
-  if (keyframe_odom_.empty()) {
+  if (!judged.keyframe) return;
+  if (keyframes_.empty()) {
     verifier_->AddFirstPose(0, pose);
-    if (store_) store_->RecordFirstKeyframe(0, record);
-    map_.push_back(pose);
+    if (store_) store_->RecordFirstKeyframe(0, reading);
   } else {
-    const Pose motion = keyframe_odom_.back().between(pose);
-    if (!motion.Log().allFinite()) {
-      return Invalid(kOdometry, msg->header.seq,
-                     "the motion from the last keyframe is not finite");
-    }
-    const bool every =
-        options_.keyframe_translation == 0 && options_.keyframe_rotation == 0;
-    if (!every &&
-        motion.translation().norm() <= options_.keyframe_translation &&
-        motion.angle() <= options_.keyframe_rotation) {
-      return;
-    }
     using Source = typename rrr::OdometryNoiseModel<Pose>::Source;
     Source source;
+    const rrr::KeyframeRecord<Pose> newest = keyframes_.newest();
     const Information information = odometry_noise_.EdgeInformation(
-        keyframe_odom_.back(), keyframe_covariance_, pose, covariance,
+        newest.odometry_pose, newest.covariance, pose, covariance,
         options_.use_odometry_covariance, &source);
     {
       std::lock_guard<std::mutex> lock(state_mutex_);
@@ -408,15 +396,12 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
              ? status_.odometry_information_from_covariance
              : status_.odometry_information_from_motion);
     }
-    const rrr::PoseId id = verifier_->AddOdometry(motion, information);
+    const rrr::PoseId id = verifier_->AddOdometry(judged.motion, information);
     if (store_) {
-      store_->RecordKeyframe(id, record, motion, information);
+      store_->RecordKeyframe(id, reading, judged.motion, information);
     }
-    map_.push_back(map_.back() * motion);
   }
-  keyframe_covariance_ = covariance;
-  keyframe_odom_.push_back(pose);
-  keyframe_stamps_.Append(stamp_ns);
+  keyframes_.Append(reading);
   new_keyframes_ = true;
   rrr_slam::Keyframe keyframe;
   keyframe.header.stamp = msg->header.stamp;
@@ -453,8 +438,8 @@ template <class Pose>
 void VerifierNode<Pose>::ResolveStampedLoops() {
   auto keep = stamped_waiting_.begin();
   for (auto& msg : stamped_waiting_) {
-    const int from = keyframe_stamps_.Find(msg.from_stamp.toNSec()),
-              to = keyframe_stamps_.Find(msg.to_stamp.toNSec());
+    const int from = keyframes_.stamps().Find(msg.from_stamp.toNSec()),
+              to = keyframes_.stamps().Find(msg.to_stamp.toNSec());
     if (from == rrr::KeyframeStamps::kNotYet ||
         to == rrr::KeyframeStamps::kNotYet) {
       *keep++ = std::move(msg);
@@ -551,8 +536,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
           .count();
 
   std::lock_guard<std::mutex> lock(state_mutex_);
-  if (!map_.empty()) {
-    const Pose correction = map_.back() * keyframe_odom_.back().inverse();
+  if (!keyframes_.empty()) {
+    const Pose correction = keyframes_.MapToOdom();
     map_to_odom_.header.frame_id = options_.map_frame;
     map_to_odom_.child_frame_id = options_.odom_frame;
     map_to_odom_.transform = ToRosTransform(correction);
@@ -584,10 +569,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
 template <class Pose>
 void VerifierNode<Pose>::RecomputeMap() {
   if (verifier_->graph().num_poses() == 0) return;
-  map_ = verifier_->Map();
-  // The map frame is the odometry frame of the first keyframe.
-  const Pose shift = keyframe_odom_.front() * map_.front().inverse();
-  for (Pose& p : map_) p = shift * p;
+  keyframes_.SetMap(verifier_->Map());
 }
 
 template <class Pose>
@@ -599,19 +581,20 @@ void VerifierNode<Pose>::PublishDecisions(
 
 template <class Pose>
 void VerifierNode<Pose>::PublishPath() {
-  path_pub_.publish(
-      PathMsg(map_, keyframe_stamps_.stamps(), options_.map_frame));
+  path_pub_.publish(PathMsg(keyframes_.map(), keyframes_.stamps().stamps(),
+                            options_.map_frame));
 }
 
 template <class Pose>
 void VerifierNode<Pose>::PublishMarkers() {
-  marker_pub_.publish(GraphMarkers(*verifier_, map_, options_.map_frame));
+  marker_pub_.publish(
+      GraphMarkers(*verifier_, keyframes_.map(), options_.map_frame));
 }
 
 template <class Pose>
 void VerifierNode<Pose>::PublishAcceptedGraph() {
-  graph_pub_.publish(
-      AcceptedGraphMsg(*verifier_, map_, last_accepted_, options_.map_frame));
+  graph_pub_.publish(AcceptedGraphMsg(*verifier_, keyframes_.map(),
+                                      last_accepted_, options_.map_frame));
 }
 
 template class VerifierNode<rrr::Pose2>;

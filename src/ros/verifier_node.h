@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "node_options.h"
-#include "rrr/graph/keyframe_stamps.h"
+#include "rrr/graph/keyframe_track.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/rrr/online_verifier.h"
 #include "rrr/session/session_store.h"
@@ -112,10 +112,7 @@ class VerifierNode {
   ros::Time resumed_until_;  // stamp of the last resumed keyframe
   bool resumed_ = false;
   const rrr::OdometryNoiseModel<Pose> odometry_noise_;
-  rrr::OdometryCovariance keyframe_covariance_;  // of the last keyframe
-  rrr::KeyframeStamps keyframe_stamps_;
-  std::vector<Pose> keyframe_odom_;  // odometry pose of each keyframe
-  std::vector<Pose> map_;            // corrected pose of each keyframe
+  rrr::KeyframeTrack<Pose> keyframes_;  // and their corrected poses
   std::vector<int> last_accepted_;
   std::vector<rrr_slam::LoopClosure> stamped_waiting_;
   bool new_keyframes_ = false;

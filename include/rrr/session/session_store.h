@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "rrr/graph/odometry_noise.h"
+#include "rrr/graph/keyframe_track.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/online_verifier.h"
 
@@ -25,15 +25,6 @@ class SessionError : public std::runtime_error {
 
 // The schema version this library writes and reads.
 constexpr int kSessionSchemaVersion = 1;
-
-// A keyframe as the robot's odometry reported it: its time stamp, its pose
-// in the odometry frame and that pose's covariance.
-template <class Pose>
-struct KeyframeRecord {
-  std::int64_t stamp_ns = 0;
-  Pose odometry_pose;
-  OdometryCovariance covariance = OdometryCovariance::Zero();
-};
 
 // What Resume found and did.
 struct ResumeSummary {
