@@ -8,6 +8,10 @@
 namespace rrr_ros {
 namespace {
 
+// No position coordinate of a robot's pose is this far from the origin (m);
+// beyond it, pose arithmetic such as the logarithm can overflow.
+constexpr double kFarthest = 1e9;
+
 // Rows/columns of a 6x6 PoseWithCovariance covariance that a pose type uses.
 template <class Pose>
 constexpr std::array<int, Pose::kDof> kAxes();
@@ -27,6 +31,13 @@ bool QuaternionFromRos(const geometry_msgs::Pose& in, Eigen::Quaterniond* q,
   for (const double v : {p.x, p.y, p.z, o.x, o.y, o.z, o.w}) {
     if (!std::isfinite(v)) {
       *why = "the pose has a value that is not finite";
+      return false;
+    }
+  }
+  for (const double v : {p.x, p.y, p.z}) {
+    if (std::abs(v) > kFarthest) {
+      *why = "the position has a coordinate of " + std::to_string(v) +
+             " m, beyond " + std::to_string(kFarthest) + " m";
       return false;
     }
   }

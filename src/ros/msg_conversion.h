@@ -16,7 +16,8 @@
 namespace rrr_ros {
 
 // A ROS pose as a core pose; 2D keeps x, y and yaw. Returns false (with a
-// reason) if a value is not finite or the quaternion is not near unit norm.
+// reason) if a value is not finite, a position coordinate is over 10⁹ m or
+// the quaternion is not near unit norm.
 bool FromRos(const geometry_msgs::Pose& in, rrr::Pose2* out, std::string* why);
 bool FromRos(const geometry_msgs::Pose& in, rrr::Pose3* out, std::string* why);
 
