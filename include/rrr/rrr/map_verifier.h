@@ -177,6 +177,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Marks `c` accepted; adds its links to the map unless a kept trial did.
   void Accept(int c, bool add_to_map);
   void SetAside(int c);
+  // Takes accepted cluster `c` out of the map and marks it set aside; its
+  // noise-scale sample stays.
+  void LeaveMap(int c);
   // Step 5, once.
   void Reopen();
   // Step 5 until the map stops calling for it (at most kMostReopenRounds).

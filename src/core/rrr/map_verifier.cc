@@ -464,13 +464,20 @@ void MapVerifier<Pose>::Accept(int c, bool add_to_map) {
 
 template <class Pose>
 void MapVerifier<Pose>::SetAside(int c) {
-  ClusterRecord& record = records_[c];
-  if (record.status == Status::kAccepted) {
-    map_->Remove(record.survivors, options_.map_radius, Significant());
+  if (records_[c].status == Status::kAccepted) {
+    LeaveMap(c);
     scale_.RemoveClusterSample(c);
     reopen_needed_ = true;
+    return;
   }
-  record.status = Status::kSetAside;
+  records_[c].status = Status::kSetAside;
+  touched_.push_back(c);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::LeaveMap(int c) {
+  map_->Remove(records_[c].survivors, options_.map_radius, Significant());
+  records_[c].status = Status::kSetAside;
   touched_.push_back(c);
 }
 
@@ -512,9 +519,7 @@ void MapVerifier<Pose>::Reopen() {
       // Accepted under a scale at least twice today's: judged again, its
       // noise-scale sample kept until the new decision.
       ++stats_.reopened;
-      map_->Remove(record.survivors, options_.map_radius, Significant());
-      record.status = Status::kSetAside;
-      touched_.push_back(static_cast<int>(c));
+      LeaveMap(static_cast<int>(c));
       JudgeCluster(static_cast<int>(c));
       if (record.status != Status::kAccepted) {
         scale_.RemoveClusterSample(static_cast<int>(c));
@@ -529,10 +534,8 @@ void MapVerifier<Pose>::Reopen() {
     if (!strained && !fits) continue;
     ++stats_.reopened;
     if (strained) {
-      map_->Remove(record.survivors, options_.map_radius, Significant());
+      LeaveMap(static_cast<int>(c));
       scale_.RemoveClusterSample(static_cast<int>(c));
-      record.status = Status::kSetAside;
-      touched_.push_back(static_cast<int>(c));
     }
     JudgeAgainstMap(static_cast<int>(c));
   }
