@@ -60,8 +60,10 @@ class SessionStore {
 
   // Feeds the recorded session to `verifier`, which must be new, in the order
   // it was recorded, running Update() (or Finish()) where the recording ran
-  // one; calls `on_keyframe` with each keyframe's id and record in order.
-  // Compares the replayed decisions with the recorded ones.
+  // one; calls `on_keyframe` with each keyframe's id and record in order
+  // (a std::logic_error it throws, such as std::invalid_argument, fails the
+  // resume with a SessionError naming the input). Compares the replayed
+  // decisions with the recorded ones.
   ResumeSummary Resume(
       OnlineVerifier<Pose>* verifier,
       const std::function<void(PoseId, const KeyframeRecord<Pose>&)>&

@@ -456,13 +456,13 @@ ResumeSummary SessionStore<Pose>::Resume(
         }
         ++summary.candidates;
       }
+      if (row.kind != kLoop && on_keyframe) {
+        on_keyframe(row.pose_id, row.keyframe);
+      }
     } catch (const std::logic_error& e) {  // incl. DegenerateCandidate
       db.Fail(at + e.what());
     }
-    if (row.kind != kLoop) {
-      ++summary.keyframes;
-      if (on_keyframe) on_keyframe(row.pose_id, row.keyframe);
-    }
+    if (row.kind != kLoop) ++summary.keyframes;
     run_updates_through(row.seq);
   });
   run_updates_through(std::numeric_limits<std::int64_t>::max());

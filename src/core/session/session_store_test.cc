@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "../testing/replay.h"
 #include "rrr/geometry/pose2.h"
@@ -243,6 +244,24 @@ TEST_F(SessionStoreTest, RefusesKeyframesThatGoBackInTime) {
   const std::string error = ErrorOf([&] { store.Resume(&resumed, nullptr); });
   EXPECT_EQ(error.rfind(path_, 0), 0u) << error;
   EXPECT_NE(error.find("keyframe 50 is stamped before"), std::string::npos)
+      << error;
+}
+
+TEST_F(SessionStoreTest, NamesTheInputAKeyframeCallbackRefuses) {
+  MapVerifier<Pose2> verifier{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, 100, 10);
+  }
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  const std::string error = ErrorOf([&] {
+    store.Resume(&resumed, [](PoseId id, const KeyframeRecord<Pose2>&) {
+      if (id == 30) throw std::invalid_argument("keyframe 30: not wanted");
+    });
+  });
+  EXPECT_EQ(error.rfind(path_, 0), 0u) << error;
+  EXPECT_NE(error.find(": keyframe 30: not wanted"), std::string::npos)
       << error;
 }
 
