@@ -87,6 +87,7 @@ class SessionStoreTest : public ::testing::Test {
 
 std::vector<LoopState> States(const OnlineVerifier<Pose2>& verifier) {
   std::vector<LoopState> states;
+  states.reserve(verifier.num_candidates());
   for (int c = 0; c < verifier.num_candidates(); ++c) {
     states.push_back(verifier.state(c));
   }
