@@ -5,12 +5,16 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <type_traits>
+#include <variant>
 
 #include "commands.h"
 #include "output_paths.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/eval/loop_scores.h"
 #include "rrr/eval/trajectory_error.h"
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
 #include "rrr/io/input_error.h"
 
@@ -68,16 +72,22 @@ std::vector<std::pair<LoopKey, bool>> ReadDecisions(const std::string& path) {
   return out;
 }
 
-// The ground-truth trajectory as positions by pose id, if one was given.
-std::optional<Positions> TruePositions(const EvaluateArgs& args,
-                                       std::map<PoseId, Pose2>* planar) {
+// True poses by pose id, planar or spatial.
+using TruePoses =
+    std::variant<std::map<PoseId, Pose2>, std::map<PoseId, Pose3>>;
+
+template <class Pose>
+std::map<PoseId, Pose> PosesOf(const PoseGraph<Pose>& g) {
+  std::map<PoseId, Pose> out;
+  for (int k = 0; k < g.num_poses(); ++k) out[g.ids()[k]] = g.estimates()[k];
+  return out;
+}
+
+// The ground-truth trajectory, if one was given.
+std::optional<TruePoses> ReadTruth(const EvaluateArgs& args) {
   if (!args.gt_g2o.empty()) {
-    const G2oFile file = ReadG2o(args.gt_g2o);
-    if (const auto* g = std::get_if<PoseGraph2>(&file.graph)) {
-      for (int k = 0; k < g->num_poses(); ++k)
-        (*planar)[g->ids()[k]] = g->estimates()[k];
-    }
-    return PositionsOf(file.graph);
+    return std::visit([](const auto& g) { return TruePoses(PosesOf(g)); },
+                      ReadG2o(args.gt_g2o).graph);
   }
   if (!args.gt_csv.empty()) {
     if (args.timestamps.empty()) {
@@ -89,42 +99,79 @@ std::optional<Positions> TruePositions(const EvaluateArgs& args,
     for (const auto& s : stamped) gt_times.push_back(s.first);
     const auto match =
         AssociateByTime(ReadTimestamps(args.timestamps), gt_times, args.max_dt);
-    Positions out;
+    std::map<PoseId, Pose2> out;
     for (size_t id = 0; id < match.size(); ++id) {
-      if (match[id] < 0) continue;
-      const Pose2& p = stamped[match[id]].second;
-      (*planar)[static_cast<PoseId>(id)] = p;
-      out[static_cast<PoseId>(id)] = p.translation();
+      if (match[id] >= 0)
+        out[static_cast<PoseId>(id)] = stamped[match[id]].second;
     }
     return out;
   }
   return std::nullopt;
 }
 
+Positions PositionsOf(const TruePoses& truth) {
+  Positions out;
+  std::visit(
+      [&](const auto& poses) {
+        for (const auto& [id, pose] : poses) out[id] = pose.translation();
+      },
+      truth);
+  return out;
+}
+
+// Each loop of the g2o file `graph_path` labelled by JudgeLoop against the
+// true poses; throws InputError when a loop's poses have no ground truth or
+// the graph and the truth differ in dimension.
+std::map<LoopKey, LoopLabel> JudgeByTruth(const std::string& graph_path,
+                                          const TruePoses& truth) {
+  std::map<LoopKey, LoopLabel> out;
+  std::visit(
+      [&](const auto& g, const auto& poses) {
+        using Pose = std::decay_t<decltype(g.estimates()[0])>;
+        using TruePose = typename std::decay_t<decltype(poses)>::mapped_type;
+        if constexpr (!std::is_same_v<Pose, TruePose>) {
+          throw InputError(graph_path, 0,
+                           "the graph and the ground truth differ in "
+                           "dimension");
+        } else {
+          for (const auto& e : g.loops()) {
+            const LoopKey key{g.ids()[e.from], g.ids()[e.to]};
+            const auto a = poses.find(key.first), b = poses.find(key.second);
+            if (a == poses.end() || b == poses.end()) {
+              throw InputError(graph_path, 0,
+                               "no ground truth for candidate " +
+                                   std::to_string(key.first) + " " +
+                                   std::to_string(key.second));
+            }
+            out[key] = JudgeLoop(e.measurement, a->second, b->second);
+          }
+        }
+      },
+      ReadG2o(graph_path).graph, truth);
+  return out;
+}
+
+// Precision and recall count a candidate as correct by the first source
+// given: the false-loop list, the labels file, or the ground truth; the
+// metric rule's figures come from the labels file or, with --graph, from the
+// ground truth (a false loop whose measurement happens to be accurate
+// passes it), and otherwise equal the first.
 void Evaluate(const EvaluateArgs& args) {
   const auto decisions = ReadDecisions(args.report);
-  std::map<PoseId, Pose2> planar_truth;
-  const std::optional<Positions> truth = TruePositions(args, &planar_truth);
+  const std::optional<TruePoses> truth = ReadTruth(args);
 
-  // Which candidates are correct, topologically and metrically.
-  std::vector<bool> accepted, topological, metric;
-  std::map<LoopKey, Pose2> measured;
-  if (args.false_loops.empty() && args.labels.empty()) {
-    if (args.graph.empty() || planar_truth.empty()) {
-      throw CLI::ValidationError(
-          "evaluate",
-          "say which loops are correct: --false-loops, --labels with --level, "
-          "or --graph with a planar --gt-g2o / --gt-csv");
+  std::map<LoopKey, LoopLabel> by_truth;
+  if (!args.graph.empty()) {
+    if (!truth) {
+      throw CLI::ValidationError("evaluate",
+                                 "--graph needs --gt-g2o or --gt-csv");
     }
-    const G2oFile input = ReadG2o(args.graph);
-    const auto* g = std::get_if<PoseGraph2>(&input.graph);
-    if (!g)
-      throw InputError(args.graph, 0,
-                       "judging loops by ground truth needs a 2D graph");
-    for (const auto& e : g->loops()) {
-      measured.emplace(LoopKey{g->ids()[e.from], g->ids()[e.to]},
-                       e.measurement);
-    }
+    by_truth = JudgeByTruth(args.graph, *truth);
+  } else if (args.false_loops.empty() && args.labels.empty()) {
+    throw CLI::ValidationError(
+        "evaluate",
+        "say which loops are correct: --false-loops, --labels with --level, "
+        "or --graph with --gt-g2o / --gt-csv");
   }
   const std::set<LoopKey> false_set = args.false_loops.empty()
                                           ? std::set<LoopKey>()
@@ -132,30 +179,28 @@ void Evaluate(const EvaluateArgs& args) {
   const std::map<LoopKey, LoopLabel> labels =
       args.labels.empty() ? std::map<LoopKey, LoopLabel>()
                           : ReadLoopLabels(args.labels, args.level);
+  const auto label_of = [](const std::map<LoopKey, LoopLabel>& from,
+                           const LoopKey& key, const std::string& path) {
+    const auto it = from.find(key);
+    if (it == from.end()) {
+      throw InputError(path, 0,
+                       "no label for candidate " + std::to_string(key.first) +
+                           " " + std::to_string(key.second));
+    }
+    return it->second;
+  };
+  std::vector<bool> accepted, topological, metric;
   for (const auto& [key, is_accepted] : decisions) {
     LoopLabel label;
     if (!args.false_loops.empty()) {
       label.topological = label.metric = !false_set.count(key);
     } else if (!args.labels.empty()) {
-      const auto it = labels.find(key);
-      if (it == labels.end()) {
-        throw InputError(args.labels, 0,
-                         "no label for candidate " + std::to_string(key.first) +
-                             " " + std::to_string(key.second));
-      }
-      label = it->second;
+      label = label_of(labels, key, args.labels);
     } else {
-      const auto a = planar_truth.find(key.first),
-                 b = planar_truth.find(key.second);
-      const auto z = measured.find(key);
-      if (a == planar_truth.end() || b == planar_truth.end() ||
-          z == measured.end()) {
-        throw InputError(args.graph, 0,
-                         "no ground truth for candidate " +
-                             std::to_string(key.first) + " " +
-                             std::to_string(key.second));
-      }
-      label = JudgeLoop(z->second, a->second, b->second);
+      label = label_of(by_truth, key, args.graph);
+    }
+    if (!args.graph.empty() && args.labels.empty()) {
+      label.metric = label_of(by_truth, key, args.graph).metric;
     }
     accepted.push_back(is_accepted);
     topological.push_back(label.topological);
@@ -184,10 +229,11 @@ void Evaluate(const EvaluateArgs& args) {
       throw CLI::ValidationError("evaluate", "ATE needs --gt-g2o or --gt-csv");
     }
     const Positions estimate = PositionsOf(ReadG2o(args.map).graph);
+    const Positions reference = PositionsOf(*truth);
     std::vector<Eigen::VectorXd> est, ref;
     for (const auto& [id, p] : estimate) {
-      const auto it = truth->find(id);
-      if (it != truth->end() && it->second.size() == p.size()) {
+      const auto it = reference.find(id);
+      if (it != reference.end() && it->second.size() == p.size()) {
         est.push_back(p);
         ref.push_back(it->second);
       }
@@ -246,7 +292,8 @@ void AddEvaluateCommand(CLI::App& app) {
          "largest time difference of an associated ground-truth pose (s)")
       ->capture_default_str();
   cmd->add_option("--graph", args->graph,
-                  "the verified input g2o, to judge loops by the ground truth")
+                  "the verified input g2o, to judge loops by the ground truth "
+                  "(alone, or for the metric rule beside --false-loops)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--json", args->json, "write the figures as JSON too");
   cmd->callback([args] {

@@ -119,6 +119,38 @@ TEST(RrrTool, SimulateVerifyEvaluateRoundTrip) {
   EXPECT_EQ(edges, 799 + r["accepted"].size());
 }
 
+TEST(RrrTool, EvaluateJudgesListedLoopsByTheMetricRuleToo) {
+  const std::string world = Tmp("judged.g2o"), truth = Tmp("judged.txt"),
+                    gt = Tmp("judged_gt.g2o"), out = Tmp("judged_out.g2o"),
+                    report = Tmp("judged.json"), listed = Tmp("listed.txt"),
+                    eval = Tmp("judged_eval.json");
+  ASSERT_EQ(Rrr("simulate --poses 600 --false-loops 10 -o " + world + " -t " +
+                truth + " --ground-truth " + gt)
+                .status,
+            0);
+  ASSERT_EQ(
+      Rrr("verify " + world + " -w 10 -o " + out + " -r " + report).status, 0);
+  // The list names one accepted (accurate) loop as false besides the real
+  // false loops: the list's precision counts it, the metric rule does not.
+  const auto first = ReadJson(report)["accepted"][0];
+  std::ifstream real(truth);
+  std::ofstream(listed) << real.rdbuf() << first[0] << " " << first[1] << "\n";
+  const std::string scored = "evaluate " + report + " --graph " + world +
+                             " --gt-g2o " + gt + " --json " + eval;
+  ASSERT_EQ(Rrr(scored + " --false-loops " + listed).status, 0);
+  const nlohmann::json with_list = ReadJson(eval);
+  const double accepted = with_list["accepted"].get<double>();
+  EXPECT_DOUBLE_EQ(with_list["precision"].get<double>(),
+                   (accepted - 1) / accepted);
+  EXPECT_DOUBLE_EQ(with_list["metric_precision"].get<double>(), 1.0);
+  // Without a list, the ground truth decides both.
+  ASSERT_EQ(Rrr(scored).status, 0);
+  EXPECT_DOUBLE_EQ(ReadJson(eval)["precision"].get<double>(), 1.0);
+  const Result flat = Rrr("evaluate " + report + " --graph " + world);
+  EXPECT_NE(flat.status, 0);
+  EXPECT_THAT(flat.output, HasSubstr("--graph needs --gt-g2o or --gt-csv"));
+}
+
 TEST(RrrTool, SpoilAddsAndListsFalseLoops) {
   const std::string world = Tmp("clean.g2o");
   ASSERT_EQ(Rrr("simulate --poses 300 --false-loops 0 -o " + world + " -t " +
