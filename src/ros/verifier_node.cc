@@ -40,14 +40,6 @@ std::string WrongFrame(const std::string& frame, const std::string& name,
   return "frame '" + frame + "' is not the " + role + " frame '" + name + "'";
 }
 
-// The q-quantile of `values` (reordered), 0 if empty.
-double Quantile(std::vector<double>* values, double q) {
-  if (values->empty()) return 0.0;
-  const auto k = static_cast<size_t>(q * (values->size() - 1));
-  std::nth_element(values->begin(), values->begin() + k, values->end());
-  return (*values)[k];
-}
-
 // The information of one metre or radian of motion (odometry/information).
 template <class Pose>
 typename rrr::Constraint<Pose>::Information PerUnitInformation(
@@ -78,6 +70,7 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
     : options_(options),
       nh_(nh),
       private_nh_(private_nh),
+      queue_(options.max_queue_length),
       verifier_(MakeVerifier<Pose>(options.rrr)),
       odometry_noise_(PerUnitInformation<Pose>(options),
                       options.odometry_min_motion),
@@ -118,11 +111,7 @@ template <class Pose>
 VerifierNode<Pose>::~VerifierNode() {
   odom_sub_.shutdown();
   loop_sub_.shutdown();
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    stopping_ = true;
-  }
-  queue_cv_.notify_all();
+  queue_.Stop();
   worker_.join();
 }
 
@@ -179,29 +168,22 @@ void VerifierNode<Pose>::OnLoopClosure(
 
 template <class Pose>
 void VerifierNode<Pose>::Enqueue(Input input) {
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (!std::holds_alternative<Request>(input) &&
-        queue_.size() >= options_.max_queue_length) {
-      const uint64_t refused = ++inputs_refused_;
-      const bool odometry =
-          std::holds_alternative<nav_msgs::Odometry::ConstPtr>(input);
-      const uint32_t seq =
-          odometry
-              ? std::get<nav_msgs::Odometry::ConstPtr>(input)->header.seq
-              : std::get<rrr_slam::LoopClosure::ConstPtr>(input)->header.seq;
-      ROS_WARN_THROTTLE(5.0,
-                        "rrr_node: refused %s message %u: %zu inputs are "
-                        "queued already (max_queue_length; %lu refused so far)",
-                        odometry ? kOdometry : kLoopClosure, seq, queue_.size(),
-                        static_cast<unsigned long>(refused));
-      return;
-    }
-    queue_.emplace_back(std::move(input), ros::WallTime::now());
-    const auto length = static_cast<uint32_t>(queue_.size());
-    if (length > max_queue_length_) max_queue_length_ = length;
+  if (std::holds_alternative<Request>(input)) {
+    queue_.Push(std::move(input), false);
+    return;
   }
-  queue_cv_.notify_one();
+  const bool odometry =
+      std::holds_alternative<nav_msgs::Odometry::ConstPtr>(input);
+  const uint32_t seq =
+      odometry ? std::get<nav_msgs::Odometry::ConstPtr>(input)->header.seq
+               : std::get<rrr_slam::LoopClosure::ConstPtr>(input)->header.seq;
+  if (!queue_.Push(std::move(input), true)) {
+    ROS_WARN_THROTTLE(5.0,
+                      "rrr_node: refused %s message %u: %zu inputs are "
+                      "queued already (max_queue_length; %lu refused so far)",
+                      odometry ? kOdometry : kLoopClosure, seq, queue_.size(),
+                      static_cast<unsigned long>(queue_.refused()));
+  }
 }
 
 template <class Pose>
@@ -252,27 +234,27 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
 template <class Pose>
 bool VerifierNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
                                      rrr_slam::GetStatus::Response& res) {
-  std::vector<double> latencies, updates;
+  UpdateTimings timings;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     res = status_;
-    latencies = candidate_latencies_;
-    updates = update_seconds_;
+    timings = timings_;
   }
-  res.candidate_latency_p50 = Quantile(&latencies, 0.50);
-  res.candidate_latency_p99 = Quantile(&latencies, 0.99);
-  res.candidate_latency_max = Quantile(&latencies, 1.0);
-  res.update_seconds_p50 = Quantile(&updates, 0.50);
-  res.update_seconds_p99 = Quantile(&updates, 0.99);
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    res.queue_length = static_cast<uint32_t>(queue_.size());
-  }
+  const UpdateTimings::Summary t = timings.Summarize();
+  res.candidate_latency_p50 = t.latency_p50;
+  res.candidate_latency_p99 = t.latency_p99;
+  res.candidate_latency_max = t.latency_max;
+  res.update_seconds_p50 = t.update_p50;
+  res.update_seconds_p99 = t.update_p99;
+  res.max_update_seconds = t.update_max;
+  res.recent_max_update_seconds = t.recent_update_max;
+  res.last_update_seconds = t.last_update;
+  res.queue_length = static_cast<uint32_t>(queue_.size());
   res.odometry_received = odometry_received_;
   res.loop_closures_received = loops_received_;
-  res.max_queue_length = max_queue_length_;
+  res.max_queue_length = static_cast<uint32_t>(queue_.longest());
   res.inputs_dropped = 0;
-  res.inputs_refused = inputs_refused_;
+  res.inputs_refused = queue_.refused();
   return true;
 }
 
@@ -313,13 +295,8 @@ void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
 template <class Pose>
 void VerifierNode<Pose>::WorkerLoop() {
   while (true) {
-    std::deque<std::pair<Input, ros::WallTime>> batch;
-    {
-      std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_cv_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
-      if (stopping_ && queue_.empty()) return;
-      batch.swap(queue_);
-    }
+    auto batch = queue_.TakeAll();
+    if (batch.empty()) return;  // stopped
     bool pending_update = false;
     for (auto& [input, arrival] : batch) {
       if (auto* request = std::get_if<Request>(&input)) {
@@ -550,18 +527,13 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   status_.waiting_by_stamp = static_cast<uint32_t>(stamped_waiting_.size());
   status_.waiting += status_.waiting_by_stamp;
   ++status_.updates;
-  status_.last_update_seconds = seconds;
   status_.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
-  update_seconds_.push_back(seconds);
-  status_.recent_max_update_seconds = *std::max_element(
-      update_seconds_.end() -
-          std::min<size_t>(update_seconds_.size(), kRecentUpdates),
-      update_seconds_.end());
-  status_.max_update_seconds = std::max(status_.max_update_seconds, seconds);
-  const ros::WallTime published = ros::WallTime::now();
-  for (const ros::WallTime& arrival : unpublished_arrivals_) {
-    candidate_latencies_.push_back((published - arrival).toSec());
+  timings_.AddUpdate(seconds);
+  const auto published = InputQueue<Input>::Clock::now();
+  for (const auto& arrival : unpublished_arrivals_) {
+    timings_.AddLatency(
+        std::chrono::duration<double>(published - arrival).count());
   }
   unpublished_arrivals_.clear();
 }

@@ -7,8 +7,6 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <atomic>
-#include <condition_variable>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -16,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "input_queue.h"
 #include "node_options.h"
 #include "rrr/graph/keyframe_track.h"
 #include "rrr/graph/odometry_noise.h"
@@ -25,6 +24,7 @@
 #include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
 #include "rrr_slam/SaveGraph.h"
+#include "update_timings.h"
 
 namespace rrr_ros {
 
@@ -97,14 +97,8 @@ class VerifierNode {
   ros::Timer tf_timer_, diagnostics_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
-  // The queue between the callbacks and the worker.
-  std::mutex queue_mutex_;
-  std::condition_variable queue_cv_;
-  std::deque<std::pair<Input, ros::WallTime>> queue_;  // with arrival times
-  bool stopping_ = false;
+  InputQueue<Input> queue_;  // between the callbacks and the worker
   std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
-  std::atomic<uint32_t> max_queue_length_{0};
-  std::atomic<uint64_t> inputs_refused_{0};
 
   // Worker state (touched only by the worker).
   std::unique_ptr<rrr::OnlineVerifier<Pose>> verifier_;  // of the procedure
@@ -118,15 +112,15 @@ class VerifierNode {
   bool new_keyframes_ = false;
   uint64_t taken_since_update_ = 0;  // inputs taken in since the last update
   int published_candidates_ = 0;     // candidates in the last ~decisions
-  std::vector<ros::WallTime> unpublished_arrivals_;  // of candidates taken in
+  // Arrival times of the candidates taken in since the last update.
+  std::vector<typename InputQueue<Input>::Clock::time_point>
+      unpublished_arrivals_;
   ros::WallTime last_publish_;  // of the path and the markers
   std::thread worker_;
 
   // Shared with the ROS threads under `state_mutex_`.
   std::mutex state_mutex_;
-  std::vector<double> candidate_latencies_;  // s, percentiles on request
-  std::vector<double> update_seconds_;       // of every update, likewise
-  static constexpr size_t kRecentUpdates = 100;
+  UpdateTimings timings_;
   geometry_msgs::TransformStamped map_to_odom_;
   bool have_map_to_odom_ = false;
   rrr_slam::GetStatus::Response status_;
