@@ -152,7 +152,9 @@ def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_
     poses = sum(1 for line in lines if line.startswith("VERTEX"))
     candidates = sum(1 for line in lines if line.startswith("EDGE")) - (poses - 1)
 
-    ros = ros_factory(f"cluster_window:={window}")
+    # At 100x the loop topic can lag the odometry by more than a window
+    # (hundreds of keyframes a second): the decisions wait for it.
+    ros = ros_factory(f"cluster_window:={window}", "decision_delay:=2000")
     play = subprocess.run(["rosbag", "play", "--quiet", "--wait-for-subscribers", "-r", "100",
                            bag], env=ros.env,
                           capture_output=True, text=True, timeout=600)

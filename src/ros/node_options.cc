@@ -64,6 +64,7 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   nh.param("max_future_keyframes", o.rrr.max_future_poses,
            o.rrr.max_future_poses);
   nh.param("max_waiting", o.rrr.max_waiting, o.rrr.max_waiting);
+  nh.param("decision_delay", o.rrr.decision_delay, o.rrr.decision_delay);
   nh.param("cluster_window", o.rrr.cluster_window, o.rrr.cluster_window);
   nh.param("iterations", o.rrr.iterations, o.rrr.iterations);
   nh.param("alpha", o.rrr.alpha, o.rrr.alpha);

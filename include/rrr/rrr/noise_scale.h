@@ -39,6 +39,9 @@ class NoiseScaleEstimate {
   void AddLoopSample(double chi2);
   // The estimate from the loop samples so far: min(1, quantile ratio).
   double FromLoops() const { return from_loops_; }
+  // The same estimate from the minimal errors `chi2` of some loops (1 when
+  // there is none).
+  double FromLoopSamples(const std::vector<double>& chi2) const;
   int num_loop_samples() const { return static_cast<int>(loops_.size()); }
 
   // Cluster `cluster` was accepted, raising the map's minimal error by
@@ -53,6 +56,10 @@ class NoiseScaleEstimate {
   std::string Source() const;
 
  private:
+  // min(1, the kLoopQuantile-quantile of `per_dof` (D²/e, not empty) over
+  // that of χ²_e/e).
+  double RatioOf(const std::vector<double>& per_dof) const;
+
   int residual_dim_;
   double chi2_quantile_ratio_;  // kLoopQuantile-quantile of χ²_e / e
   std::vector<double> loops_;   // D²/e of each loop sample

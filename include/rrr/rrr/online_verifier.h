@@ -97,7 +97,9 @@ class OnlineVerifier {
  protected:
   // The candidate of graph loop `loop`.
   int candidate_of_loop(int loop) const { return candidate_of_loop_[loop]; }
-  // The number of poses the graph had when loop `loop` entered it.
+  // The number of poses the graph had when loop `loop` entered it, or had
+  // when its later pose arrived if the loop came after that (so that a loop
+  // that comes late counts as if it had come in time).
   int poses_at_arrival(int loop) const { return poses_at_arrival_[loop]; }
   // Sets every candidate's state to `next` (by candidate number) and returns
   // the changes.
@@ -134,7 +136,9 @@ class OnlineVerifier {
 
 // Feeds `graph` to `verifier` as a robot would produce it: pose after pose
 // (odometry from the graph's chain, see ChainOf), each loop candidate right
-// after its later pose, Update() after every `update_every` poses, then
+// after its later pose, or with `loop_lag` > 0 as from a loop topic that lags
+// by up to that many poses (loop k comes k mod (loop_lag + 1) poses late, at
+// the last pose at the latest), Update() after every `update_every` poses, then
 // Finish(). Calls `on_changes` with the changes of each update if given.
 // Returns the graph loop index of each candidate number. Throws
 // std::invalid_argument if a pose has no odometry to its predecessor.
@@ -143,7 +147,8 @@ std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
     int update_every = 1,
     const std::function<void(const std::vector<DecisionChange>&)>& on_changes =
-        nullptr);
+        nullptr,
+    int loop_lag = 0);
 
 }  // namespace rrr
 

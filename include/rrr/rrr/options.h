@@ -50,6 +50,12 @@ struct RrrOptions {
   // at most `max_waiting` may wait at once; others are refused.
   int max_future_poses = 1000;
   int max_waiting = 10000;
+  // Online only: a cluster is judged this many poses later than it is ready
+  // (still as of the pose it became ready at), so that its loops may arrive
+  // that much after their later pose (a front-end's latency, or a loop topic
+  // that lags the odometry) and still join it. 0 (default): judged as soon
+  // as ready. A batch run's decisions do not depend on it.
+  int decision_delay = 0;
 
   // The map procedure only (MapVerifier).
   // s: every gate compares an error with s·χ²(α, dof). 1 trusts the

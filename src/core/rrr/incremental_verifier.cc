@@ -57,7 +57,8 @@ std::vector<DecisionChange> IncrementalVerifier<Pose>::Judge(bool finish) {
   const PoseId newest = graph.num_poses() > 0 ? graph.ids().back() : 0;
   std::vector<std::vector<int>> ready;
   for (const Cluster& c : clusters_) {
-    if (finish || newest - c.start_high >= options_.cluster_window) {
+    if (finish || newest - c.start_high >=
+                      options_.cluster_window + options_.decision_delay) {
       ready.push_back(c.loops);
     }
   }

@@ -109,13 +109,10 @@ struct BicoccaLevel {
 class IncrementalBicocca : public ::testing::TestWithParam<BicoccaLevel> {};
 
 TEST_P(IncrementalBicocca, EndsWithTheBatchDecisions) {
-  const std::string path =
-      testing::DatasetDir() + "/bicocca25b/B25b_" + GetParam().level + ".g2o";
-  if (!std::ifstream(path)) {
-    GTEST_SKIP() << "Bicocca 25b not found at " << path
-                 << " (set RRR_DATASETS to the datasets folder)";
-  }
-  const auto graph = std::get<PoseGraph2>(ReadG2o(path).graph);
+  std::string missing;
+  const auto bicocca = testing::ReadBicocca(GetParam().level, &missing);
+  if (!bicocca) GTEST_SKIP() << missing;
+  const PoseGraph2& graph = *bicocca;
   RrrOptions options;
   options.cluster_window = 50;
   const Replay replay(graph, options);

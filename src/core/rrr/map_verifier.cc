@@ -95,12 +95,17 @@ void MapVerifier<Pose>::Catch() {
       static_cast<PoseId>(kClusterSpanWindows) * options_.cluster_window;
   for (int loop = static_cast<int>(this->cluster_of_loop_.size());
        loop < static_cast<int>(graph.loops().size()); ++loop) {
-    record_until(this->poses_at_arrival(loop));
+    const int arrival = this->poses_at_arrival(loop);
+    record_until(arrival);
     const auto& e = graph.loops()[loop];
     const CondensedErrors alone =
         SolveCondensed(graph, chain_, {loop}, options_.convergence);
     if (alone.errors.solved) scale_.AddLoopSample(alone.errors.total_chi2);
     alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2 : -1.0);
+    if (alone.errors.solved &&
+        arrival < static_cast<int>(scale_before_pose_.size())) {
+      RecordScalesFrom(arrival);  // a loop that came late
+    }
     const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
     this->cluster_of_loop_.push_back(c);
     if (c == static_cast<int>(records_.size())) {
@@ -117,24 +122,53 @@ void MapVerifier<Pose>::Catch() {
 }
 
 template <class Pose>
+void MapVerifier<Pose>::RecordScalesFrom(int pose) {
+  std::vector<std::pair<int, double>> samples;  // (arrival, D²)
+  for (int loop = 0; loop < static_cast<int>(alone_chi2_.size()); ++loop) {
+    if (alone_chi2_[loop] >= 0.0) {
+      samples.emplace_back(this->poses_at_arrival(loop), alone_chi2_[loop]);
+    }
+  }
+  std::stable_sort(
+      samples.begin(), samples.end(),
+      [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<double> before;  // D² of the loops that arrived by pose p
+  size_t next = 0;
+  double value = 1.0;
+  for (int p = 0; p < static_cast<int>(scale_before_pose_.size()); ++p) {
+    const size_t had = before.size();
+    while (next < samples.size() && samples[next].first <= p) {
+      before.push_back(samples[next++].second);
+    }
+    if (p < pose) continue;
+    if (p == pose || before.size() != had) {
+      value = scale_.FromLoopSamples(before);
+    }
+    scale_before_pose_[p] = value;
+    samples_before_pose_[p] = static_cast<int>(before.size());
+  }
+}
+
+template <class Pose>
 int MapVerifier<Pose>::DecisionPose(int c, bool finish) const {
   const PoseGraph<Pose>& graph = this->graph();
   const int newest = graph.num_poses() - 1;
   int pose = records_[c].ready_pose;
   if (pose < 0) {
-    const int last = graph.IndexOf(clustering_.clusters()[c].start_high);
-    const int ready = last + options_.cluster_window;
-    pose = ready <= newest ? ready : (finish ? newest : -1);
+    pose = graph.IndexOf(clustering_.clusters()[c].start_high) +
+           options_.cluster_window;
   }
-  if (pose < 0 || options_.noise_scale > 0.0) return pose;
-  // With an estimated scale, decisions wait for enough loops to sample it.
-  if (samples_before_pose_[newest] < kMinLoopSamples) {
-    return finish ? newest : -1;
+  if (options_.noise_scale == 0.0) {
+    // With an estimated scale, decisions wait for enough loops to sample it.
+    const auto known =
+        std::lower_bound(samples_before_pose_.begin(),
+                         samples_before_pose_.end(), kMinLoopSamples);
+    if (known == samples_before_pose_.end()) return finish ? newest : -1;
+    pose =
+        std::max(pose, static_cast<int>(known - samples_before_pose_.begin()));
   }
-  const auto known =
-      std::lower_bound(samples_before_pose_.begin(), samples_before_pose_.end(),
-                       kMinLoopSamples);
-  return std::max(pose, static_cast<int>(known - samples_before_pose_.begin()));
+  if (pose > newest) return finish ? newest : -1;
+  return pose + options_.decision_delay <= newest || finish ? pose : -1;
 }
 
 template <class Pose>

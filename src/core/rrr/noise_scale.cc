@@ -25,8 +25,21 @@ NoiseScaleEstimate::NoiseScaleEstimate(int residual_dim)
 
 void NoiseScaleEstimate::AddLoopSample(double chi2) {
   loops_.push_back(chi2 / residual_dim_);
-  from_loops_ = std::min(1.0, std::max(Quantile(loops_, kLoopQuantile), 1e-12) /
-                                  chi2_quantile_ratio_);
+  from_loops_ = RatioOf(loops_);
+}
+
+double NoiseScaleEstimate::FromLoopSamples(
+    const std::vector<double>& chi2) const {
+  if (chi2.empty()) return 1.0;
+  std::vector<double> per_dof;
+  per_dof.reserve(chi2.size());
+  for (const double v : chi2) per_dof.push_back(v / residual_dim_);
+  return RatioOf(per_dof);
+}
+
+double NoiseScaleEstimate::RatioOf(const std::vector<double>& per_dof) const {
+  return std::min(1.0, std::max(Quantile(per_dof, kLoopQuantile), 1e-12) /
+                           chi2_quantile_ratio_);
 }
 
 void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,

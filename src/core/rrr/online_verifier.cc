@@ -115,7 +115,8 @@ void OnlineVerifier<Pose>::ApplyWaiting() {
         Constraint<Pose>{from, to, cand.measurement, cand.information});
     cand.loop = static_cast<int>(graph_.loops().size()) - 1;
     candidate_of_loop_.push_back(c);
-    poses_at_arrival_.push_back(graph_.num_poses());
+    poses_at_arrival_.push_back(
+        std::min(graph_.num_poses(), std::max(from, to) + 1));
   }
   waiting_.erase(still_waiting, waiting_.end());
 }
@@ -169,12 +170,15 @@ template <class Pose>
 std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
     int update_every,
-    const std::function<void(const std::vector<DecisionChange>&)>& on_changes) {
+    const std::function<void(const std::vector<DecisionChange>&)>& on_changes,
+    int loop_lag) {
   const OdometryChain<Pose> chain = ChainOf(graph);
   std::vector<std::vector<int>> ending_at(graph.num_poses());
   for (size_t k = 0; k < graph.loops().size(); ++k) {
     const auto& e = graph.loops()[k];
-    ending_at[std::max(e.from, e.to)].push_back(static_cast<int>(k));
+    const int lag = static_cast<int>(k) % (loop_lag + 1);
+    ending_at[std::min(std::max(e.from, e.to) + lag, graph.num_poses() - 1)]
+        .push_back(static_cast<int>(k));
   }
   const auto report = [&](const std::vector<DecisionChange>& changes) {
     if (on_changes) on_changes(changes);
@@ -203,9 +207,9 @@ template class OnlineVerifier<Pose2>;
 template class OnlineVerifier<Pose3>;
 template std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose2>&, OnlineVerifier<Pose2>*, int,
-    const std::function<void(const std::vector<DecisionChange>&)>&);
+    const std::function<void(const std::vector<DecisionChange>&)>&, int);
 template std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose3>&, OnlineVerifier<Pose3>*, int,
-    const std::function<void(const std::vector<DecisionChange>&)>&);
+    const std::function<void(const std::vector<DecisionChange>&)>&, int);
 
 }  // namespace rrr

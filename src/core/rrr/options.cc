@@ -20,6 +20,10 @@ std::string RrrOptions::Validate() const {
     return "max_future_poses must not be negative, got " +
            std::to_string(max_future_poses);
   }
+  if (decision_delay < 0) {
+    return "decision_delay must not be negative, got " +
+           std::to_string(decision_delay);
+  }
   if (max_waiting < 0) {
     return "max_waiting must not be negative, got " +
            std::to_string(max_waiting);

@@ -21,7 +21,7 @@ struct Replay {
   int accepted_then_rejected = 0, rejected_then_accepted = 0;
 
   Replay(const PoseGraph<Pose>& graph, const RrrOptions& options,
-         int update_every = 1)
+         int update_every = 1, int loop_lag = 0)
       : verifier(options) {
     FeedInArrivalOrder(
         graph, &verifier, update_every,
@@ -30,7 +30,8 @@ struct Replay {
             accepted_then_rejected += c.previous == LoopState::kAccepted;
             rejected_then_accepted += c.previous == LoopState::kRejected;
           }
-        });
+        },
+        loop_lag);
   }
   // The end ids of the accepted candidates.
   Pairs Accepted() const {
