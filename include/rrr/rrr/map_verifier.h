@@ -142,7 +142,7 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Takes the graph's new poses and loops in.
   void Catch();
   // Records again, for pose indices from `pose` on, the scale from the loops
-  // that arrived by each (after a loop that came late was sampled).
+  // that arrived by each (once per Catch that sampled loops that came late).
   void RecordScalesFrom(int pose);
   // The pose index at which pending cluster `c` is judged, or -1 if not yet.
   int DecisionPose(int c, bool finish) const;

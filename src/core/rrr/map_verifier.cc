@@ -93,6 +93,7 @@ void MapVerifier<Pose>::Catch() {
   };
   const PoseId span =
       static_cast<PoseId>(kClusterSpanWindows) * options_.cluster_window;
+  int earliest_late = graph.num_poses();  // arrival of a loop that came late
   for (int loop = static_cast<int>(this->cluster_of_loop_.size());
        loop < static_cast<int>(graph.loops().size()); ++loop) {
     const int arrival = this->poses_at_arrival(loop);
@@ -104,7 +105,7 @@ void MapVerifier<Pose>::Catch() {
     alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2 : -1.0);
     if (alone.errors.solved &&
         arrival < static_cast<int>(scale_before_pose_.size())) {
-      RecordScalesFrom(arrival);  // a loop that came late
+      earliest_late = std::min(earliest_late, arrival);
     }
     const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
     this->cluster_of_loop_.push_back(c);
@@ -119,6 +120,7 @@ void MapVerifier<Pose>::Catch() {
     }
   }
   record_until(graph.num_poses());
+  if (earliest_late < graph.num_poses()) RecordScalesFrom(earliest_late);
 }
 
 template <class Pose>
