@@ -29,18 +29,6 @@ struct EvaluateArgs {
 
 using Positions = std::map<PoseId, Eigen::VectorXd>;
 
-Positions PositionsOf(const AnyPoseGraph& graph) {
-  Positions out;
-  std::visit(
-      [&](const auto& g) {
-        for (int k = 0; k < g.num_poses(); ++k) {
-          out[g.ids()[k]] = g.estimates()[k].translation();
-        }
-      },
-      graph);
-  return out;
-}
-
 // Candidates of the report, each with whether it was accepted.
 std::vector<std::pair<LoopKey, bool>> ReadDecisions(const std::string& path) {
   std::ifstream in(path);
@@ -72,22 +60,27 @@ std::vector<std::pair<LoopKey, bool>> ReadDecisions(const std::string& path) {
   return out;
 }
 
-// True poses by pose id, planar or spatial.
-using TruePoses =
+// Poses by pose id, planar or spatial.
+using PosesById =
     std::variant<std::map<PoseId, Pose2>, std::map<PoseId, Pose3>>;
 
-template <class Pose>
-std::map<PoseId, Pose> PosesOf(const PoseGraph<Pose>& g) {
-  std::map<PoseId, Pose> out;
-  for (int k = 0; k < g.num_poses(); ++k) out[g.ids()[k]] = g.estimates()[k];
-  return out;
+// The estimates of `graph` by pose id.
+PosesById PosesOf(const AnyPoseGraph& graph) {
+  return std::visit(
+      [](const auto& g) {
+        std::map<PoseId, std::decay_t<decltype(g.estimates()[0])>> out;
+        for (int k = 0; k < g.num_poses(); ++k) {
+          out[g.ids()[k]] = g.estimates()[k];
+        }
+        return PosesById(std::move(out));
+      },
+      graph);
 }
 
 // The ground-truth trajectory, if one was given.
-std::optional<TruePoses> ReadTruth(const EvaluateArgs& args) {
+std::optional<PosesById> ReadTruth(const EvaluateArgs& args) {
   if (!args.gt_g2o.empty()) {
-    return std::visit([](const auto& g) { return TruePoses(PosesOf(g)); },
-                      ReadG2o(args.gt_g2o).graph);
+    return PosesOf(ReadG2o(args.gt_g2o).graph);
   }
   if (!args.gt_csv.empty()) {
     if (args.timestamps.empty()) {
@@ -109,13 +102,13 @@ std::optional<TruePoses> ReadTruth(const EvaluateArgs& args) {
   return std::nullopt;
 }
 
-Positions PositionsOf(const TruePoses& truth) {
+Positions PositionsOf(const PosesById& poses) {
   Positions out;
   std::visit(
-      [&](const auto& poses) {
-        for (const auto& [id, pose] : poses) out[id] = pose.translation();
+      [&](const auto& by_id) {
+        for (const auto& [id, pose] : by_id) out[id] = pose.translation();
       },
-      truth);
+      poses);
   return out;
 }
 
@@ -123,7 +116,7 @@ Positions PositionsOf(const TruePoses& truth) {
 // true poses; throws InputError when a loop's poses have no ground truth or
 // the graph and the truth differ in dimension.
 std::map<LoopKey, LoopLabel> JudgeByTruth(const std::string& graph_path,
-                                          const TruePoses& truth) {
+                                          const PosesById& truth) {
   std::map<LoopKey, LoopLabel> out;
   std::visit(
       [&](const auto& g, const auto& poses) {
@@ -158,7 +151,7 @@ std::map<LoopKey, LoopLabel> JudgeByTruth(const std::string& graph_path,
 // passes it), and otherwise equal the first.
 void Evaluate(const EvaluateArgs& args) {
   const auto decisions = ReadDecisions(args.report);
-  const std::optional<TruePoses> truth = ReadTruth(args);
+  const std::optional<PosesById> truth = ReadTruth(args);
 
   std::map<LoopKey, LoopLabel> by_truth;
   if (!args.graph.empty()) {
@@ -228,7 +221,7 @@ void Evaluate(const EvaluateArgs& args) {
     if (!truth) {
       throw CLI::ValidationError("evaluate", "ATE needs --gt-g2o or --gt-csv");
     }
-    const Positions estimate = PositionsOf(ReadG2o(args.map).graph);
+    const Positions estimate = PositionsOf(PosesOf(ReadG2o(args.map).graph));
     const Positions reference = PositionsOf(*truth);
     std::vector<Eigen::VectorXd> est, ref;
     for (const auto& [id, p] : estimate) {
