@@ -6,19 +6,36 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-SUDO=""
-[ "$(id -u)" -eq 0 ] || SUDO="sudo"
 # The install list is derived from package.xml (scripts/debian_packages.sh).
 PACKAGE_LIST=$(bash scripts/debian_packages.sh "$@")
 mapfile -t PACKAGES <<<"$PACKAGE_LIST"
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
+not_installed() {
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || echo "$p"
+  done
+}
+mapfile -t missing < <(not_installed)
 if [ "${#missing[@]}" -gt 0 ]; then
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || {
+      echo "setup: ${#missing[@]} Debian packages are missing (${missing[*]}) and installing" \
+        "them needs root: run this script as root, or install sudo" >&2
+      exit 1
+    }
+    SUDO="sudo"
+  fi
   echo "setup: installing ${#missing[@]} Debian packages"
-  $SUDO apt-get update -qq
-  $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  # A new machine may still be running its first apt job: wait for its lock.
+  APT=(apt-get -o DPkg::Lock::Timeout=600)
+  $SUDO "${APT[@]}" update -qq
+  $SUDO env DEBIAN_FRONTEND=noninteractive "${APT[@]}" install -y -qq --no-install-recommends \
+    "${missing[@]}" >/dev/null
+  mapfile -t still_missing < <(not_installed)
+  if [ "${#still_missing[@]}" -gt 0 ]; then
+    echo "setup: apt-get finished but these packages are not installed: ${still_missing[*]}" >&2
+    exit 1
+  fi
 fi
 
 # catkin needs Debian's python, not a pyenv/venv one.

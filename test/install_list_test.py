@@ -61,19 +61,70 @@ def test_every_dependency_key_has_debian_packages():
     assert "libroscpp-dev" in result.stdout.split()
 
 
-def test_a_key_missing_from_the_table_is_named(tmp_path):
-    # The script, run on a copy of the package whose package.xml has a key
-    # the table lacks, must fail and name it.
+def copy_with_extra_key(tmp_path, debian_packages=None):
+    """A copy of the package's scripts and package.xml with one more
+    dependency key, no_such_key, that the table maps to `debian_packages`
+    (no entry when None)."""
     (tmp_path / "scripts").mkdir()
-    for name in ("debian_packages.sh", "debian_packages.yaml"):
+    for name in ("setup.sh", "debian_packages.sh", "debian_packages.yaml"):
         (tmp_path / "scripts" / name).write_text((ROOT / "scripts" / name).read_text())
+    if debian_packages is not None:
+        with open(tmp_path / "scripts" / "debian_packages.yaml", "a") as table_file:
+            table_file.write(f"no_such_key: {{debian: [{', '.join(debian_packages)}]}}\n")
     xml = (ROOT / "package.xml").read_text().replace(
         "<depend>roscpp</depend>", "<depend>roscpp</depend><depend>no_such_key</depend>")
     (tmp_path / "package.xml").write_text(xml)
-    result = subprocess.run(["bash", str(tmp_path / "scripts" / "debian_packages.sh")],
+    return tmp_path
+
+
+def test_a_key_missing_from_the_table_is_named(tmp_path):
+    # The script, run on a copy of the package whose package.xml has a key
+    # the table lacks, must fail and name it.
+    package = copy_with_extra_key(tmp_path)
+    result = subprocess.run(["bash", str(package / "scripts" / "debian_packages.sh")],
                             capture_output=True, text=True)
     assert result.returncode != 0
     assert "no_such_key" in result.stderr
+
+
+def setup_with_commands(package, commands):
+    """scripts/setup.sh of `package`, run with a PATH of only the tools it
+    needs before the build, and `commands` (name -> shell script) in place
+    of the real ones of those names."""
+    tools = package / "bin"
+    tools.mkdir()
+    for name in ("bash", "dirname", "grep", "sed", "sort", "tr", "dpkg-query", "id", "env",
+                 "apt-get"):
+        if name not in commands:
+            (tools / name).symlink_to(subprocess.run(
+                ["bash", "-c", f"command -v {name}"], capture_output=True, text=True,
+                check=True).stdout.strip())
+    for name, script in commands.items():
+        (tools / name).write_text("#!/bin/sh\n" + script + "\n")
+        (tools / name).chmod(0o755)
+    return subprocess.run(["bash", str(package / "scripts" / "setup.sh")], capture_output=True,
+                          text=True, env={"PATH": str(tools), "HOME": str(package)})
+
+
+def test_setup_without_root_or_sudo_names_what_it_cannot_install(tmp_path):
+    # A user who is not root on a machine without sudo: setup must stop
+    # before apt-get, naming the missing package and what to do.
+    package = copy_with_extra_key(tmp_path, ["rrr-no-such-package"])
+    result = setup_with_commands(package, {"id": "echo 1000",
+                                           "apt-get": "echo apt-get was run >&2; exit 3"})
+    assert result.returncode == 1, result.stderr
+    assert "rrr-no-such-package" in result.stderr
+    assert "root" in result.stderr and "sudo" in result.stderr
+    assert "apt-get was run" not in result.stderr
+
+
+def test_setup_fails_when_apt_leaves_a_package_missing(tmp_path):
+    # An apt-get that reports success without installing everything must
+    # not let setup go on to a build that fails far from the cause.
+    package = copy_with_extra_key(tmp_path, ["rrr-no-such-package"])
+    result = setup_with_commands(package, {"id": "echo 0", "apt-get": "exit 0"})
+    assert result.returncode == 1, result.stderr
+    assert "not installed: rrr-no-such-package" in result.stderr
 
 
 def test_every_table_entry_names_debian_packages():
