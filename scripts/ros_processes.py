@@ -11,6 +11,12 @@ import subprocess
 import time
 
 
+# rosbag play, waiting for its subscribers, with an outgoing queue that holds
+# a whole bag: rosbag's default (100 per topic) drops messages when the node
+# reads them more slowly than the bag plays (a loaded machine, a fast rate).
+ROSBAG_PLAY = ["rosbag", "play", "--quiet", "--wait-for-subscribers", "--queue", "1000000"]
+
+
 def ros_env(build_dir, port, home=None):
     """The environment of `build_dir`'s devel space with a master on `port`
     and ROS_HOME in `home` (default: the caller's ROS_HOME or /tmp)."""

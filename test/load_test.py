@@ -155,8 +155,7 @@ def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_
     # At 100x the loop topic can lag the odometry by more than a window
     # (hundreds of keyframes a second): the decisions wait for it.
     ros = ros_factory(f"cluster_window:={window}", "decision_delay:=2000")
-    play = subprocess.run(["rosbag", "play", "--quiet", "--wait-for-subscribers", "-r", "100",
-                           bag], env=ros.env,
+    play = subprocess.run([*ros_processes.ROSBAG_PLAY, "-r", "100", bag], env=ros.env,
                           capture_output=True, text=True, timeout=600)
     assert play.returncode == 0, play.stderr
     final = ros_processes.wait_for(

@@ -17,7 +17,8 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
-from ros_processes import free_port, node_pid, ros_env, service, stop, wait_for  # noqa: E402
+from ros_processes import (ROSBAG_PLAY, free_port, node_pid, ros_env, service, stop,  # noqa: E402
+                           wait_for)
 from world_files import generated_and_bicocca, loop_pairs  # noqa: E402
 
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
@@ -66,7 +67,7 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         launch = start_node(env, database, window, log)
         pid = node_pid(launch)
         wait_for(lambda: status(env), 60, "~get_status")
-        player = subprocess.Popen(["rosbag", "play", "--quiet", "--wait-for-subscribers", bag],
+        player = subprocess.Popen([*ROSBAG_PLAY, bag],
                                   env=env, stdout=log,
                                   stderr=subprocess.STDOUT, start_new_session=True)
         # Kill it in the middle of the replay, then stop the bag.
@@ -85,8 +86,7 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         assert resumed["database"] == str(database)
         # Play on from the last recorded keyframe (pose k is at 1 + k / RATE).
         start = (keyframes - 1) / RATE - 0.5 / RATE
-        player = subprocess.Popen(["rosbag", "play", "--quiet", "--wait-for-subscribers",
-                                   "-s", f"{start:.6f}", bag],
+        player = subprocess.Popen([*ROSBAG_PLAY, "-s", f"{start:.6f}", bag],
                                   env=env, stdout=log, stderr=subprocess.STDOUT,
                                   start_new_session=True)
         assert player.wait(timeout=300) == 0, (tmp_path / "ros.log").read_text()[-3000:]
