@@ -124,8 +124,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::string noise_scale_source() const override;
   // The median over the accepted clusters of their error at the map's
   // estimate per degree of freedom, Σ d²_l / (e·|S|): the a-posteriori
-  // variance factor of the map, for comparison with the estimate the gates
-  // use (reports only). 0 while no cluster is accepted.
+  // variance factor of the map at its estimate now (the gates' estimate
+  // takes the same samples at each minimization of the whole map). 0 while
+  // no cluster is accepted.
   double APosterioriScale() const;
 
  private:
@@ -189,8 +190,13 @@ class MapVerifier : public OnlineVerifier<Pose> {
   void ReopenWhileNeeded();
   static constexpr int kMostReopenRounds = 3;
   static constexpr double kRejudgeScaleRatio = 2.0;
+  // Minimizes the whole map and takes the accepted clusters' errors there,
+  // times the map's error over the loops' share of it, as their
+  // noise-scale samples.
   void OptimizeMap();
   double ClusterChi2AtEstimate(int c) const;
+  // Each accepted cluster's error at the map's estimate, with its dof.
+  std::vector<NoiseScaleEstimate::ClusterSample> AcceptedAtEstimate() const;
   // s·χ²(α, dof) for the decision being made.
   double Gate(int dof) const;
   // A change of the map's error that matters to decisions: s·e, the

@@ -14,10 +14,15 @@ namespace rrr {
 // Two robust estimates, each a ratio of observed minimal errors to their
 // degrees of freedom:
 //  - from the accepted clusters: the median over the clusters now accepted
-//    of Δ/dof, the increase each one brought to the map's minimal error over
-//    the redundancy it added, once kMinClusters are accepted. This is the
-//    scale of exactly what the gates test; a median, so a minority of wrong
-//    acceptances cannot move it.
+//    of their error over its degrees of freedom, once kMinClusters are
+//    accepted: at first Δ/dof, the increase each one brought to the map's
+//    minimal error over the redundancy it added, and whenever the caller
+//    has the minimum of the whole map, each cluster's error there (the
+//    a-posteriori variance factor; a local trial's Δ overstates it, since
+//    it holds the poses beyond its reach). A median, so a minority of wrong
+//    acceptances cannot move it. Once in force it stays while any cluster
+//    is accepted: falling back to the loops' estimate, which is looser,
+//    would let the clusters that leave be judged again under it.
 //  - before that, the information matrices as given (s = 1), unless single
 //    loops show them too small: each loop minimized alone with the odometry
 //    (e degrees of freedom) gives D²/e, and the kLoopQuantile-quantile over
@@ -49,8 +54,17 @@ class NoiseScaleEstimate {
   void SetClusterSample(int cluster, double increase, int dof);
   // Cluster `cluster` left the map.
   void RemoveClusterSample(int cluster);
+  // One cluster's error with its degrees of freedom.
+  struct ClusterSample {
+    int cluster;
+    double error;
+    int dof;
+  };
+  // SetClusterSample for each of `samples` (e.g. the accepted clusters'
+  // errors at the minimum of the whole map), the estimate updated once.
+  void SetClusterSamples(const std::vector<ClusterSample>& samples);
 
-  // The clusters' estimate when there is one, else `from_loops`.
+  // The clusters' estimate when it is in force, else `from_loops`.
   double Value(double from_loops) const;
   // "clusters" or "loops": where Value() comes from now.
   std::string Source() const;
@@ -59,13 +73,16 @@ class NoiseScaleEstimate {
   // min(1, the kLoopQuantile-quantile of `per_dof` (D²/e, not empty) over
   // that of χ²_e/e).
   double RatioOf(const std::vector<double>& per_dof) const;
+  // Recomputes the clusters' estimate from clusters_.
+  void UpdateFromClusters();
 
   int residual_dim_;
   double chi2_quantile_ratio_;  // kLoopQuantile-quantile of χ²_e / e
   std::vector<double> loops_;   // D²/e of each loop sample
   double from_loops_ = 1.0;
-  std::map<int, double> clusters_;  // Δ/dof by cluster
-  double from_clusters_ = 0.0;      // 0 until kMinClusters samples
+  std::map<int, double> clusters_;   // error/dof by cluster
+  double from_clusters_ = 0.0;       // 0 while the loops' estimate is in force
+  bool clusters_took_over_ = false;  // kMinClusters samples were reached
 };
 
 }  // namespace rrr

@@ -47,12 +47,23 @@ std::string MapVerifier<Pose>::noise_scale_source() const {
 }
 
 template <class Pose>
-double MapVerifier<Pose>::APosterioriScale() const {
-  std::vector<double> per_dof;
+std::vector<NoiseScaleEstimate::ClusterSample>
+MapVerifier<Pose>::AcceptedAtEstimate() const {
+  std::vector<NoiseScaleEstimate::ClusterSample> samples;
   for (size_t c = 0; c < records_.size(); ++c) {
     if (records_[c].status != Status::kAccepted) continue;
-    per_dof.push_back(ClusterChi2AtEstimate(static_cast<int>(c)) /
-                      (Pose::kDof * records_[c].survivors.size()));
+    samples.push_back(
+        {static_cast<int>(c), ClusterChi2AtEstimate(static_cast<int>(c)),
+         Pose::kDof * static_cast<int>(records_[c].survivors.size())});
+  }
+  return samples;
+}
+
+template <class Pose>
+double MapVerifier<Pose>::APosterioriScale() const {
+  std::vector<double> per_dof;
+  for (const auto& sample : AcceptedAtEstimate()) {
+    per_dof.push_back(sample.error / sample.dof);
   }
   if (per_dof.empty()) return 0.0;
   const auto middle = per_dof.begin() + per_dof.size() / 2;
@@ -524,6 +535,19 @@ void MapVerifier<Pose>::OptimizeMap() {
   this->CountSolves(1);
   const MinimizeResult result = map_->Optimize();
   if (!result.converged) ++stats_.not_converged;
+  // At the whole map's minimum the accepted clusters' errors give the
+  // a-posteriori scale, which their trials' increases overstate. The loops
+  // hold only part of the map's error (the odometry bends to them), so each
+  // is scaled by the map's total over the loops' total: for a map whose
+  // information matrices are right the median is then near 1.
+  std::vector<NoiseScaleEstimate::ClusterSample> samples = AcceptedAtEstimate();
+  double loops_chi2 = 0.0;
+  for (const auto& sample : samples) loops_chi2 += sample.error;
+  if (loops_chi2 > 0.0) {
+    const double share = std::max(1.0, result.final_chi2 / loops_chi2);
+    for (auto& sample : samples) sample.error *= share;
+  }
+  scale_.SetClusterSamples(samples);
   accepted_since_optimize_ = 0;
   reopen_needed_ = true;
 }

@@ -45,12 +45,26 @@ double NoiseScaleEstimate::RatioOf(const std::vector<double>& per_dof) const {
 void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,
                                           int dof) {
   clusters_[cluster] = std::max(increase, 0.0) / dof;
-  RemoveClusterSample(-1);
+  UpdateFromClusters();
 }
 
 void NoiseScaleEstimate::RemoveClusterSample(int cluster) {
   clusters_.erase(cluster);
-  if (static_cast<int>(clusters_.size()) < kMinClusters) {
+  UpdateFromClusters();
+}
+
+void NoiseScaleEstimate::SetClusterSamples(
+    const std::vector<ClusterSample>& samples) {
+  for (const ClusterSample& sample : samples) {
+    clusters_[sample.cluster] = std::max(sample.error, 0.0) / sample.dof;
+  }
+  UpdateFromClusters();
+}
+
+void NoiseScaleEstimate::UpdateFromClusters() {
+  const int count = static_cast<int>(clusters_.size());
+  clusters_took_over_ = clusters_took_over_ || count >= kMinClusters;
+  if (count == 0 || !clusters_took_over_) {
     from_clusters_ = 0.0;
     return;
   }

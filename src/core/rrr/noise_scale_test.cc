@@ -66,5 +66,33 @@ TEST(NoiseScaleEstimate, AcceptedClustersTakeOverAndAMinorityCannotMoveIt) {
   EXPECT_GT(estimate.Value(0.1), 1000.0);
 }
 
+TEST(NoiseScaleEstimate, TheClustersEstimateStaysInForceOnceItTookOver) {
+  // Clusters that leave the map after the estimate took over must not bring
+  // back the loops' estimate (looser here) that the first decisions used.
+  NoiseScaleEstimate estimate(3);
+  const int n = NoiseScaleEstimate::kMinClusters;
+  for (int c = 0; c < n; ++c) estimate.SetClusterSample(c, 0.2 * 6, 6);
+  ASSERT_EQ(estimate.Source(), "clusters");
+  for (int c = 0; c < n - 1; ++c) estimate.RemoveClusterSample(c);
+  EXPECT_EQ(estimate.Source(), "clusters");
+  EXPECT_DOUBLE_EQ(estimate.Value(0.9), 0.2);
+  estimate.RemoveClusterSample(n - 1);
+  EXPECT_EQ(estimate.Source(), "loops");
+  EXPECT_DOUBLE_EQ(estimate.Value(0.9), 0.9);
+}
+
+TEST(NoiseScaleEstimate, SetClusterSamplesReplacesTheSamplesOfThoseClusters) {
+  NoiseScaleEstimate estimate(3);
+  for (int c = 0; c < 25; ++c) estimate.SetClusterSample(c, 5.0 * 6, 6);
+  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 5.0);
+  // Twenty of them at the minimized map; the other five keep theirs.
+  std::vector<NoiseScaleEstimate::ClusterSample> at_minimum;
+  for (int c = 0; c < 20; ++c) at_minimum.push_back({c, 0.5 * 3, 3});
+  estimate.SetClusterSamples(at_minimum);
+  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 0.5);
+  for (int c = 0; c < 16; ++c) estimate.RemoveClusterSample(c);
+  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 5.0);  // 4 at 0.5, 5 at 5.0
+}
+
 }  // namespace
 }  // namespace rrr
