@@ -544,8 +544,9 @@ void MapVerifier<Pose>::OptimizeMap() {
   double loops_chi2 = 0.0;
   for (const auto& sample : samples) loops_chi2 += sample.error;
   if (loops_chi2 > 0.0) {
-    const double share = std::max(1.0, result.final_chi2 / loops_chi2);
-    for (auto& sample : samples) sample.error *= share;
+    const double total_over_loops =
+        std::max(1.0, result.final_chi2 / loops_chi2);
+    for (auto& sample : samples) sample.error *= total_over_loops;
   }
   scale_.SetClusterSamples(samples);
   accepted_since_optimize_ = 0;
