@@ -124,9 +124,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::string noise_scale_source() const override;
   // The median over the accepted clusters of their error at the map's
   // estimate per degree of freedom, Σ d²_l / (e·|S|): the a-posteriori
-  // variance factor of the map at its estimate now (the gates' estimate
-  // takes the same samples at each minimization of the whole map). 0 while
-  // no cluster is accepted.
+  // variance factor of the map at its estimate now (reports only; at each
+  // minimization of the whole map the gates' estimate takes these errors
+  // times the map's error over the loops'). 0 while no cluster is accepted.
   double APosterioriScale() const;
 
  private:

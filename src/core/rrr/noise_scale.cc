@@ -44,8 +44,7 @@ double NoiseScaleEstimate::RatioOf(const std::vector<double>& per_dof) const {
 
 void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,
                                           int dof) {
-  clusters_[cluster] = std::max(increase, 0.0) / dof;
-  UpdateFromClusters();
+  SetClusterSamples({{cluster, increase, dof}});
 }
 
 void NoiseScaleEstimate::RemoveClusterSample(int cluster) {
