@@ -28,9 +28,13 @@ set(RRR_CORE_SOURCES
   src/core/robust/pcm.cc
   src/core/rrr/chi_square.cc
   src/core/rrr/clustering.cc
+  src/core/rrr/cluster_strain.cc
   src/core/rrr/consistency_tests.cc
   src/core/rrr/maintained_map.cc
+  src/core/rrr/loop_scale_history.cc
+  src/core/rrr/map_intra_cluster.cc
   src/core/rrr/map_verifier.cc
+  src/core/rrr/verify_with_map.cc
   src/core/rrr/noise_scale.cc
   src/core/rrr/options.cc
   src/core/rrr/batch_verifier.cc

@@ -15,7 +15,7 @@
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
 #include "rrr/rrr/batch_verifier.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/verify_with_map.h"
 #include "rrr/solver/gauss_newton.h"
 
 namespace rrr {

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "rrr/graph/odometry_chain.h"
-#include "rrr/rrr/batch_verifier.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/clustering.h"
+#include "rrr/rrr/loop_scale_history.h"
 #include "rrr/rrr/maintained_map.h"
 #include "rrr/rrr/noise_scale.h"
 #include "rrr/rrr/online_verifier.h"
@@ -40,19 +40,15 @@ struct MapVerifierStats {
 // new cluster). Ready clusters are judged one at a time, in the order of the
 // pose at which they became ready, against the map of odometry and the
 // clusters accepted so far:
-//  1. Intra-cluster: first, the links the odometry refutes on their own
-//     (D² of the link minimized alone with the odometry, computed when it
-//     arrived, ≥ s·χ²(α, e)) are left out: with odometry taken as true they
-//     cannot be, and in a cluster they can make the greedy below drop a
-//     revisit's links before their own. Then odometry plus the rest C,
-//     minimized to convergence on the poses its loops touch (the odometry
-//     between them condensed). It passes when D² < s·χ²(α, e·|C|), e·|C|
-//     being the redundancy of odometry plus C; while it fails, the link
-//     with the largest d²_l is dropped. Then links with d²_l ≥ s·χ²(α, e) are
-//     dropped. If none is left, the links dropped before the drop that lowered
-//     D² the most go through step 1 alone, once: a cluster can join a revisit
-//     and a false group that looks like one, and the revisit can go first. A
-//     cluster left empty is rejected for good.
+//  1. Intra-cluster (MapIntraCluster): the links the odometry refutes on
+//     their own are left out (with odometry taken as true they cannot be,
+//     and in a cluster they can make the greedy drop a revisit's links
+//     before their own); of the rest, links are dropped, the worst first,
+//     until odometry plus them passes s·χ²(α, e·|C|), and each survivor must
+//     pass s·χ²(α, e); if none is left, the links dropped before D² fell most
+//     are judged alone, once (a cluster can join a revisit and a false group
+//     that looks like one, and the revisit can go first). A cluster left
+//     empty is rejected for good.
 //  2. Against the map: Δ, the increase of the map's minimal error when the
 //     surviving links S join it, must stay below s·χ²(α, e·|S|), the
 //     redundancy S adds, and every link's d²_l below s·χ²(α, e) (as in
@@ -148,11 +144,6 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // The pose index at which pending cluster `c` is judged, or -1 if not yet.
   int DecisionPose(int c, bool finish) const;
   void JudgeCluster(int c);
-  // Step 1's greedy on `links`: the survivors, empty if none; sets
-  // `*left_after_largest_fall` (if given) to the links left after the drop
-  // that lowered D² the most.
-  std::vector<int> IntraSurvivors(std::vector<int> links,
-                                  std::vector<int>* left_after_largest_fall);
   // Steps 2 to 4 for a cluster that passed step 1.
   void JudgeAgainstMap(int c);
   // Tries `links` against the map within map_radius hops, and within
@@ -218,27 +209,13 @@ class MapVerifier : public OnlineVerifier<Pose> {
   OdometryChain<Pose> chain_;
   std::unique_ptr<MaintainedMap<Pose>> map_;
   NoiseScaleEstimate scale_;
-  // Per pose index p: the estimate from the loops that arrived before pose p
-  // existed, and their number.
-  std::vector<double> scale_before_pose_;
-  std::vector<int> samples_before_pose_;
+  LoopScaleHistory loop_scales_;
   int decision_pose_ = 0;  // of the decision being made
   int accepted_since_optimize_ = 0;
   int accepted_clusters_ = 0;  // acceptances so far (with re-acceptances)
   bool reopen_needed_ = false;
   MapVerifierStats stats_;
 };
-
-// Runs the map procedure over `graph` as the node would see it: its poses in
-// order, each loop candidate right after its later pose, an update after
-// every pose, then Finish(). Returns the decisions in graph.loops() indices;
-// sets `*map` to the final map's estimates and `*stats` if given. Throws
-// std::invalid_argument if `options` do not validate or a pose has no
-// odometry to its predecessor.
-template <class Pose>
-Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
-                      std::vector<Pose>* map = nullptr,
-                      MapVerifierStats* stats = nullptr);
 
 }  // namespace rrr
 

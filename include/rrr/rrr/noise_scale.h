@@ -63,6 +63,13 @@ class NoiseScaleEstimate {
   // SetClusterSample for each of `samples` (e.g. the accepted clusters'
   // errors at the minimum of the whole map), the estimate updated once.
   void SetClusterSamples(const std::vector<ClusterSample>& samples);
+  // SetClusterSamples for `samples`, the accepted clusters' errors at the
+  // minimum of the whole map, whose error there is `map_chi2`, each taken
+  // times max(1, map_chi2 / Σ of their errors): the loops hold only part of
+  // the map's error (the odometry bends to them), and with the factor the
+  // median for a map whose information matrices are right is near 1.
+  void SetClusterSamplesAtMinimum(std::vector<ClusterSample> samples,
+                                  double map_chi2);
 
   // The clusters' estimate when it is in force, else `from_loops`.
   double Value(double from_loops) const;

@@ -14,7 +14,7 @@
 #include "rrr/eval/loop_scores.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/verify_with_map.h"
 #include "rrr/solver/gauss_newton.h"
 
 namespace rrr {

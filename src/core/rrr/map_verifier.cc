@@ -7,6 +7,8 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/rrr/cluster_strain.h"
+#include "rrr/rrr/map_intra_cluster.h"
 #include "rrr/solver/condensed_solve.h"
 
 namespace rrr {
@@ -28,12 +30,7 @@ MapVerifier<Pose>::~MapVerifier() = default;
 template <class Pose>
 double MapVerifier<Pose>::NoiseScaleAt(int pose) const {
   if (options_.noise_scale > 0.0) return options_.noise_scale;
-  double from_loops = 1.0;
-  if (!scale_before_pose_.empty()) {
-    from_loops = scale_before_pose_[std::min(
-        static_cast<size_t>(std::max(pose, 0)), scale_before_pose_.size() - 1)];
-  }
-  return options_.noise_margin * scale_.Value(from_loops);
+  return options_.noise_margin * scale_.Value(loop_scales_.At(pose));
 }
 
 template <class Pose>
@@ -97,10 +94,7 @@ void MapVerifier<Pose>::Catch() {
   // The scale before pose p counts the loops that arrived with fewer than
   // p + 1 poses.
   const auto record_until = [&](int poses) {
-    while (static_cast<int>(scale_before_pose_.size()) < poses) {
-      scale_before_pose_.push_back(scale_.FromLoops());
-      samples_before_pose_.push_back(scale_.num_loop_samples());
-    }
+    loop_scales_.ExtendTo(poses, scale_.FromLoops(), scale_.num_loop_samples());
   };
   const PoseId span =
       static_cast<PoseId>(kClusterSpanWindows) * options_.cluster_window;
@@ -114,8 +108,7 @@ void MapVerifier<Pose>::Catch() {
         SolveCondensed(graph, chain_, {loop}, options_.convergence);
     if (alone.errors.solved) scale_.AddLoopSample(alone.errors.total_chi2);
     alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2 : -1.0);
-    if (alone.errors.solved &&
-        arrival < static_cast<int>(scale_before_pose_.size())) {
+    if (alone.errors.solved && arrival < loop_scales_.size()) {
       earliest_late = std::min(earliest_late, arrival);
     }
     const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
@@ -142,24 +135,7 @@ void MapVerifier<Pose>::RecordScalesFrom(int pose) {
       samples.emplace_back(this->poses_at_arrival(loop), alone_chi2_[loop]);
     }
   }
-  std::stable_sort(
-      samples.begin(), samples.end(),
-      [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<double> before;  // D² of the loops that arrived by pose p
-  size_t next = 0;
-  double value = 1.0;
-  for (int p = 0; p < static_cast<int>(scale_before_pose_.size()); ++p) {
-    const size_t had = before.size();
-    while (next < samples.size() && samples[next].first <= p) {
-      before.push_back(samples[next++].second);
-    }
-    if (p < pose) continue;
-    if (p == pose || before.size() != had) {
-      value = scale_.FromLoopSamples(before);
-    }
-    scale_before_pose_[p] = value;
-    samples_before_pose_[p] = static_cast<int>(before.size());
-  }
+  loop_scales_.RecomputeFrom(pose, std::move(samples), scale_);
 }
 
 template <class Pose>
@@ -173,12 +149,9 @@ int MapVerifier<Pose>::DecisionPose(int c, bool finish) const {
   }
   if (options_.noise_scale == 0.0) {
     // With an estimated scale, decisions wait for enough loops to sample it.
-    const auto known =
-        std::lower_bound(samples_before_pose_.begin(),
-                         samples_before_pose_.end(), kMinLoopSamples);
-    if (known == samples_before_pose_.end()) return finish ? newest : -1;
-    pose =
-        std::max(pose, static_cast<int>(known - samples_before_pose_.begin()));
+    const int known = loop_scales_.FirstWith(kMinLoopSamples);
+    if (known < 0) return finish ? newest : -1;
+    pose = std::max(pose, known);
   }
   if (pose > newest) return finish ? newest : -1;
   return pose + options_.decision_delay <= newest || finish ? pose : -1;
@@ -253,63 +226,17 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
 }
 
 template <class Pose>
-std::vector<int> MapVerifier<Pose>::IntraSurvivors(
-    std::vector<int> links, std::vector<int>* left_after_largest_fall) {
-  const int e = Pose::kDof;
-  double previous_total = 0.0, largest_fall = 0.0;
-  while (!links.empty()) {
-    ++stats_.intra_solves;
-    this->CountSolves(1);
-    const CondensedErrors intra =
-        SolveCondensed(this->graph(), chain_, links, options_.convergence);
-    if (!intra.minimize.converged) ++stats_.not_converged;
-    if (!intra.errors.solved) break;
-    const std::vector<double>& d2 = intra.errors.loop_chi2;
-    const double total = intra.errors.total_chi2;
-    if (left_after_largest_fall && previous_total - total > largest_fall) {
-      largest_fall = previous_total - total;
-      *left_after_largest_fall = links;
-    }
-    previous_total = total;
-    if (total < Gate(e * static_cast<int>(links.size()))) {
-      const double one_link = Gate(e);
-      std::vector<int> survivors;
-      for (size_t k = 0; k < links.size(); ++k) {
-        if (d2[k] < one_link) survivors.push_back(links[k]);
-      }
-      return survivors;
-    }
-    links.erase(links.begin() +
-                (std::max_element(d2.begin(), d2.end()) - d2.begin()));
-  }
-  return {};
-}
-
-template <class Pose>
 void MapVerifier<Pose>::JudgeCluster(int c) {
   ClusterRecord& record = records_[c];
   record.judged_scale = NoiseScaleAt(decision_pose_);
-  // A link that the odometry refutes on its own cannot join a true group.
-  std::vector<int> members;
-  const double one_link = Gate(Pose::kDof);
-  for (const int loop : clustering_.clusters()[c].loops) {
-    if (alone_chi2_[loop] < one_link) members.push_back(loop);
-  }
-  record.refuted = members.size() < clustering_.clusters()[c].loops.size();
-  std::vector<int> left;  // the links left after the largest fall of D²
-  record.survivors = IntraSurvivors(members, &left);
-  if (record.survivors.empty() && !left.empty() &&
-      left.size() < members.size()) {
-    // A revisit that a false group joined may have gone first: the links
-    // dropped before D² fell most, alone.
-    std::vector<int> dropped_first;
-    for (const int loop : members) {
-      if (std::find(left.begin(), left.end(), loop) == left.end()) {
-        dropped_first.push_back(loop);
-      }
-    }
-    record.survivors = IntraSurvivors(dropped_first, nullptr);
-  }
+  const IntraClusterOutcome intra = MapIntraCluster(
+      this->graph(), chain_, clustering_.clusters()[c].loops, alone_chi2_,
+      record.judged_scale, chi2_, options_.convergence);
+  stats_.intra_solves += intra.solves;
+  stats_.not_converged += intra.not_converged;
+  this->CountSolves(intra.solves);
+  record.refuted = intra.refuted;
+  record.survivors = intra.survivors;
   if (record.survivors.empty()) {
     record.status = Status::kRejected;
     touched_.push_back(c);
@@ -444,26 +371,12 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c) {
   const double unsatisfied =
       std::accumulate(trial.loop_chi2.begin(), trial.loop_chi2.end(), 0.0) /
       gate;
-  std::vector<std::pair<double, int>> strained;  // (strain, cluster)
-  {
-    std::vector<std::pair<int, double>> strain_of;  // (cluster, Δd²)
-    for (const auto& l : trial.map_loops) {
-      strain_of.emplace_back(this->cluster_of_loop_[l.loop],
-                             l.after - l.before);
-    }
-    std::sort(strain_of.begin(), strain_of.end());
-    for (size_t k = 0; k < strain_of.size();) {
-      const int a = strain_of[k].first;
-      double sum = 0.0;
-      for (; k < strain_of.size() && strain_of[k].first == a; ++k) {
-        sum += strain_of[k].second;
-      }
-      const double strain =
-          sum / Gate(e * static_cast<int>(records_[a].survivors.size()));
-      if (strain > unsatisfied) strained.emplace_back(strain, a);
-    }
-    std::sort(strained.rbegin(), strained.rend());
-  }
+  const std::vector<std::pair<double, int>> strained = ClustersStrainedAbove(
+      trial.map_loops, this->cluster_of_loop_,
+      [&](int a) {
+        return Gate(e * static_cast<int>(records_[a].survivors.size()));
+      },
+      unsatisfied);
   std::vector<int> removed;
   size_t removed_links = 0;
   for (const auto& [strain, a] : strained) {
@@ -536,19 +449,8 @@ void MapVerifier<Pose>::OptimizeMap() {
   const MinimizeResult result = map_->Optimize();
   if (!result.converged) ++stats_.not_converged;
   // At the whole map's minimum the accepted clusters' errors give the
-  // a-posteriori scale, which their trials' increases overstate. The loops
-  // hold only part of the map's error (the odometry bends to them), so each
-  // is scaled by the map's total over the loops' total: for a map whose
-  // information matrices are right the median is then near 1.
-  std::vector<NoiseScaleEstimate::ClusterSample> samples = AcceptedAtEstimate();
-  double loops_chi2 = 0.0;
-  for (const auto& sample : samples) loops_chi2 += sample.error;
-  if (loops_chi2 > 0.0) {
-    const double total_over_loops =
-        std::max(1.0, result.final_chi2 / loops_chi2);
-    for (auto& sample : samples) sample.error *= total_over_loops;
-  }
-  scale_.SetClusterSamples(samples);
+  // a-posteriori scale, which their trials' increases overstate.
+  scale_.SetClusterSamplesAtMinimum(AcceptedAtEstimate(), result.final_chi2);
   accepted_since_optimize_ = 0;
   reopen_needed_ = true;
 }
@@ -602,44 +504,7 @@ void MapVerifier<Pose>::Reopen() {
   }
 }
 
-template <class Pose>
-Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
-                      std::vector<Pose>* map, MapVerifierStats* stats) {
-  MapVerifier<Pose> verifier(options);
-  const std::vector<int> loop_of_candidate =
-      FeedInArrivalOrder(graph, &verifier);
-
-  Verdict verdict;
-  verdict.cluster_of_loop.assign(graph.loops().size(), -1);
-  for (int c = 0; c < verifier.num_candidates(); ++c) {
-    const int k = loop_of_candidate[c];
-    verdict.cluster_of_loop[k] = verifier.cluster_of(c);
-    (verifier.state(c) == LoopState::kAccepted ? verdict.accepted
-                                               : verdict.rejected)
-        .push_back(k);
-  }
-  std::sort(verdict.accepted.begin(), verdict.accepted.end());
-  std::sort(verdict.rejected.begin(), verdict.rejected.end());
-  verdict.clusters.resize(verifier.num_clusters());
-  for (size_t k = 0; k < verdict.cluster_of_loop.size(); ++k) {
-    verdict.clusters[verdict.cluster_of_loop[k]].loops.push_back(
-        static_cast<int>(k));
-  }
-  if (map) *map = verifier.Map();
-  if (stats) {
-    *stats = verifier.stats();
-    stats->noise_scale = verifier.noise_scale();
-    stats->noise_scale_source = verifier.noise_scale_source();
-    stats->a_posteriori_scale = verifier.APosterioriScale();
-  }
-  return verdict;
-}
-
 template class MapVerifier<Pose2>;
 template class MapVerifier<Pose3>;
-template Verdict VerifyWithMap(const PoseGraph<Pose2>&, const RrrOptions&,
-                               std::vector<Pose2>*, MapVerifierStats*);
-template Verdict VerifyWithMap(const PoseGraph<Pose3>&, const RrrOptions&,
-                               std::vector<Pose3>*, MapVerifierStats*);
 
 }  // namespace rrr

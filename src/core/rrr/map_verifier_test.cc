@@ -13,6 +13,7 @@
 #include "../testing/replay.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/rrr/verify_with_map.h"
 #include "rrr/sim/grid_world.h"
 
 namespace rrr {

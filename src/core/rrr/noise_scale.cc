@@ -60,6 +60,17 @@ void NoiseScaleEstimate::SetClusterSamples(
   UpdateFromClusters();
 }
 
+void NoiseScaleEstimate::SetClusterSamplesAtMinimum(
+    std::vector<ClusterSample> samples, double map_chi2) {
+  double loops_chi2 = 0.0;
+  for (const ClusterSample& sample : samples) loops_chi2 += sample.error;
+  if (loops_chi2 > 0.0) {
+    const double map_over_loops = std::max(1.0, map_chi2 / loops_chi2);
+    for (ClusterSample& sample : samples) sample.error *= map_over_loops;
+  }
+  SetClusterSamples(samples);
+}
+
 void NoiseScaleEstimate::UpdateFromClusters() {
   const int count = static_cast<int>(clusters_.size());
   clusters_took_over_ = clusters_took_over_ || count >= kMinClusters;

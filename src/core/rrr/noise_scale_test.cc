@@ -94,5 +94,17 @@ TEST(NoiseScaleEstimate, SetClusterSamplesReplacesTheSamplesOfThoseClusters) {
   EXPECT_DOUBLE_EQ(estimate.Value(1.0), 5.0);  // 4 at 0.5, 5 at 5.0
 }
 
+TEST(NoiseScaleEstimate, SamplesAtTheMinimumCarryTheMapsErrorOverTheLoops) {
+  NoiseScaleEstimate estimate(3);
+  std::vector<NoiseScaleEstimate::ClusterSample> at_minimum;
+  for (int c = 0; c < 10; ++c) at_minimum.push_back({c, 0.1 * 6, 6});
+  // The loops hold 6 of the map's 24: each sample counts four times.
+  estimate.SetClusterSamplesAtMinimum(at_minimum, 24.0);
+  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 0.4);
+  // A map's error under the loops' own (not a minimum) never lowers them.
+  estimate.SetClusterSamplesAtMinimum(at_minimum, 3.0);
+  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 0.1);
+}
+
 }  // namespace
 }  // namespace rrr

@@ -13,7 +13,7 @@
 #include "rrr/eval/loop_scores.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/verify_with_map.h"
 #include "rrr/sim/false_loops.h"
 
 namespace rrr {
