@@ -15,7 +15,7 @@
 #include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/verify_with_map.h"
 #include "rrr_slam/Decisions.h"
 
 namespace {

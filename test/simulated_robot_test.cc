@@ -8,7 +8,7 @@
 #include <set>
 
 #include "ros_test_helpers.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/verify_with_map.h"
 #include "rrr/sim/grid_world.h"
 #include "rrr_slam/Decisions.h"
 

@@ -75,7 +75,8 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
       odometry_noise_(PerUnitInformation<Pose>(options),
                       options.odometry_min_motion),
       keyframes_(options.keyframe_translation, options.keyframe_rotation,
-                 std::llround(options.stamp_tolerance * 1e9)) {
+                 std::llround(options.stamp_tolerance * 1e9)),
+      stamped_waiting_(options.rrr.max_waiting) {
   status_.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
   SetVerifierState(*verifier_, &status_);
@@ -397,12 +398,12 @@ void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
   if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
     AddLoopCandidate(*msg, msg->from_id, msg->to_id);
   } else if (msg->reference == rrr_slam::LoopClosure::BY_STAMP) {
-    if (static_cast<int>(stamped_waiting_.size()) >= options_.rrr.max_waiting) {
+    if (!stamped_waiting_.Hold(msg->from_stamp.toNSec(), msg->to_stamp.toNSec(),
+                               *msg)) {
       return Skip(msg->header.seq, rrr::CandidateDefect::kWaitingFull,
                   std::to_string(stamped_waiting_.size()) +
                       " candidates wait for keyframes by stamp already");
     }
-    stamped_waiting_.push_back(*msg);
     ResolveStampedLoops();
   } else {
     Invalid(kLoopClosure, msg->header.seq,
@@ -413,23 +414,17 @@ void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
 
 template <class Pose>
 void VerifierNode<Pose>::ResolveStampedLoops() {
-  auto keep = stamped_waiting_.begin();
-  for (auto& msg : stamped_waiting_) {
-    const int from = keyframes_.stamps().Find(msg.from_stamp.toNSec()),
-              to = keyframes_.stamps().Find(msg.to_stamp.toNSec());
-    if (from == rrr::KeyframeStamps::kNotYet ||
-        to == rrr::KeyframeStamps::kNotYet) {
-      *keep++ = std::move(msg);
-    } else if (from < 0 || to < 0) {
-      Skip(msg.header.seq, rrr::CandidateDefect::kUnknownPose,
-           "no keyframe within " + std::to_string(options_.stamp_tolerance) +
-               " s of its " + (from < 0 ? "from" : "to") + " stamp");
-    } else {
-      AddLoopCandidate(msg, verifier_->graph().ids()[from],
-                       verifier_->graph().ids()[to]);
-    }
-  }
-  stamped_waiting_.erase(keep, stamped_waiting_.end());
+  stamped_waiting_.Resolve(
+      keyframes_.stamps(),
+      [this](int from, int to, const rrr_slam::LoopClosure& msg) {
+        AddLoopCandidate(msg, verifier_->graph().ids()[from],
+                         verifier_->graph().ids()[to]);
+      },
+      [this](const char* end, const rrr_slam::LoopClosure& msg) {
+        Skip(msg.header.seq, rrr::CandidateDefect::kUnknownPose,
+             "no keyframe within " + std::to_string(options_.stamp_tolerance) +
+                 " s of its " + end + " stamp");
+      });
 }
 
 template <class Pose>

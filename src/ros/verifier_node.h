@@ -18,6 +18,7 @@
 #include "node_options.h"
 #include "rrr/graph/keyframe_track.h"
 #include "rrr/graph/odometry_noise.h"
+#include "rrr/graph/stamped_candidates.h"
 #include "rrr/rrr/online_verifier.h"
 #include "rrr/session/session_store.h"
 #include "rrr_slam/Finish.h"
@@ -108,7 +109,7 @@ class VerifierNode {
   const rrr::OdometryNoiseModel<Pose> odometry_noise_;
   rrr::KeyframeTrack<Pose> keyframes_;  // and their corrected poses
   std::vector<int> last_accepted_;
-  std::vector<rrr_slam::LoopClosure> stamped_waiting_;
+  rrr::StampedCandidates<rrr_slam::LoopClosure> stamped_waiting_;
   bool new_keyframes_ = false;
   uint64_t taken_since_update_ = 0;  // inputs taken in since the last update
   int published_candidates_ = 0;     // candidates in the last ~decisions
