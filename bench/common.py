@@ -177,6 +177,6 @@ def spoiled_sets(args, out):
                     extra = {"random": [], "local": ["--local"],
                              "grouped": ["--group", args.group]}[kind]
                     run("spoil", clean, "--outliers", n, "--seed", seed, *extra,
-                        "--output", spoiled, "--truth", false_list)
+                        "--reference", optimum, "--output", spoiled, "--truth", false_list)
                     yield dict(name=name, kind=kind, outliers=n, seed=seed, folder=folder,
                                spoiled=spoiled, false_list=false_list, optimum=optimum)

@@ -166,6 +166,25 @@ TEST(RrrTool, SpoilAddsAndListsFalseLoops) {
   int loops = 0;
   while (std::getline(list, line)) loops += !line.empty() && line[0] != '#';
   EXPECT_EQ(loops, 25);
+  // Against the simulated ground truth; one with a pose missing is named.
+  const Result checked =
+      Rrr("spoil " + world + " -n 25 -s 3 --reference " + Tmp("gt2.g2o") +
+          " -o " + Tmp("spoiled2.g2o") + " -t " + Tmp("spoiled2.txt"));
+  ASSERT_EQ(checked.status, 0) << checked.output;
+  EXPECT_THAT(checked.output, HasSubstr("correct at the reference discarded"));
+  const std::string short_truth = Tmp("short_gt.g2o");
+  {
+    std::ifstream in(Tmp("gt2.g2o"));
+    std::ofstream out(short_truth);
+    for (std::string l; std::getline(in, l);) {
+      if (l.rfind("VERTEX_SE2 299 ", 0) != 0) out << l << "\n";
+    }
+  }
+  const Result missing =
+      Rrr("spoil " + world + " -n 25 -s 3 --reference " + short_truth +
+          " -o " + Tmp("spoiled3.g2o") + " -t " + Tmp("spoiled3.txt"));
+  EXPECT_NE(missing.status, 0);
+  EXPECT_THAT(missing.output, HasSubstr(short_truth + ": has no pose 299"));
 }
 
 // A simulated world's file with degenerate candidates appended: 3 self

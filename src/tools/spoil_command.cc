@@ -4,20 +4,53 @@
 #include "commands.h"
 #include "graph_file.h"
 #include "output_paths.h"
+#include "rrr/io/input_error.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/sim/false_loops.h"
+#include "rrr/solver/gauss_newton.h"
 
 namespace rrr {
 namespace {
 
 struct SpoilArgs {
-  std::string input, output, truth;
+  std::string input, output, truth, reference;
   FalseLoopOptions options;
 };
 
+// The poses a false loop must be wrong at: those of `args.reference` (same
+// ids as the input), else the input's optimum, solved here.
+template <class Pose>
+std::vector<Pose> ReferencePoses(const PoseGraph<Pose>& graph,
+                                 const SpoilArgs& args) {
+  if (args.reference.empty()) {
+    GaussNewton<Pose> solver(graph, 1);
+    return solver.Optimize(AllLoops(graph), {});
+  }
+  const AnyPoseGraph loaded = LoadGraph(args.reference).graph;
+  const auto* reference = std::get_if<PoseGraph<Pose>>(&loaded);
+  if (!reference) {
+    throw InputError(args.reference, 0,
+                     "is not of the input's dimension (" + args.input + ")");
+  }
+  std::vector<Pose> poses;
+  for (int k = 0; k < graph.num_poses(); ++k) {
+    const int at = reference->IndexOf(graph.ids()[k]);
+    if (at < 0) {
+      throw InputError(args.reference, 0,
+                       "has no pose " + std::to_string(graph.ids()[k]) +
+                           " (a pose of " + args.input + ")");
+    }
+    poses.push_back(reference->estimates()[at]);
+  }
+  return poses;
+}
+
 template <class Pose>
 void Spoil(PoseGraph<Pose> graph, const SpoilArgs& args) {
-  const std::vector<int> added = AddFalseLoops(&graph, args.options);
+  const std::vector<Pose> reference = ReferencePoses(graph, args);
+  int discarded = 0;
+  const std::vector<int> added =
+      AddFalseLoops(&graph, args.options, &reference, &discarded);
   WriteG2oFile(graph, graph.estimates(), AllLoops(graph), args.output);
   std::vector<LoopKey> keys;
   for (const int k : added) {
@@ -28,9 +61,11 @@ void Spoil(PoseGraph<Pose> graph, const SpoilArgs& args) {
                 "false loops added to " + args.input + " (seed " +
                     std::to_string(args.options.seed) + ")",
                 args.truth);
-  std::cout << "added " << added.size() << " false loops; "
-            << graph.loops().size() << " loop candidates in " << args.output
-            << "\n";
+  std::cout << "added " << added.size() << " false loops (" << discarded
+            << " draws correct at the "
+            << (args.reference.empty() ? "input's optimum" : "reference")
+            << " discarded); " << graph.loops().size() << " loop candidates in "
+            << args.output << "\n";
 }
 
 }  // namespace
@@ -60,8 +95,14 @@ void AddSpoilCommand(CLI::App& app) {
       ->required();
   cmd->add_option("-t,--truth", args->truth, "list of the false loops (i j)")
       ->required();
+  cmd->add_option("--reference", args->reference,
+                  "g2o file of the true poses (e.g. rrr optimize's output for "
+                  "the input): a draw correct there within 1 m and 15 deg is "
+                  "drawn again (default: the input's optimum, solved here)")
+      ->check(CLI::ExistingFile);
   cmd->callback([args] {
-    CheckOutputPaths({args->input}, {args->output, args->truth});
+    CheckOutputPaths({args->input, args->reference},
+                     {args->output, args->truth});
     AnyPoseGraph graph = LoadGraph(args->input).graph;
     std::visit([&](auto& g) { Spoil(std::move(g), *args); }, graph);
   });

@@ -30,12 +30,20 @@ struct FalseLoopOptions {
 // graph's first loop (of its first odometry edge if it has no loop). Returns
 // the indices in graph->loops() of the added loops. No added loop shares its
 // pair of poses with another loop of the graph (old or added), so lists of
-// false loops by pose pair are exact. The same seed gives the same loops.
-// Throws std::invalid_argument if the options do not validate or free pairs
-// are too rare to find.
+// false loops by pose pair are exact. With `reference` (the true poses, or
+// the optimum of the graph before, by pose index), a draw is discarded when
+// one of its links would be correct there by kMetricRule (a measurement
+// within 1 m and 15° of the pair's relative pose; on a revisited corner a
+// local draw can be one): every added loop is false. `*discarded` (if given)
+// is the number of such draws. The same seed (and reference) gives the same
+// loops. Throws std::invalid_argument if the options do not validate, the
+// reference has not one pose per graph pose, or free pairs are too rare to
+// find.
 template <class Pose>
 std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
-                               const FalseLoopOptions& options);
+                               const FalseLoopOptions& options,
+                               const std::vector<Pose>* reference = nullptr,
+                               int* discarded = nullptr);
 
 }  // namespace rrr
 

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "rrr/eval/ground_truth.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 
@@ -41,6 +42,17 @@ Pose3 RandomMeasurement(std::mt19937_64& rng, const Pose3*) {
   return Pose3(q, translation);
 }
 
+// Whether a link (i + k, j + k), k < `links`, with `measurement` is correct
+// at the poses `truth` by kMetricRule.
+template <class Pose>
+bool AnyLinkCorrect(const std::vector<Pose>& truth, int i, int j, int links,
+                    const Pose& measurement) {
+  for (int k = 0; k < links; ++k) {
+    if (JudgeLoop(measurement, truth[i + k], truth[j + k]).metric) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::string FalseLoopOptions::Validate(int num_poses) const {
@@ -56,10 +68,18 @@ std::string FalseLoopOptions::Validate(int num_poses) const {
 
 template <class Pose>
 std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
-                               const FalseLoopOptions& options) {
+                               const FalseLoopOptions& options,
+                               const std::vector<Pose>* reference,
+                               int* discarded) {
   const int n = graph->num_poses();
   const std::string problem = options.Validate(n);
   if (!problem.empty()) throw std::invalid_argument(problem);
+  if (reference && static_cast<int>(reference->size()) != n) {
+    throw std::invalid_argument("the reference has " +
+                                std::to_string(reference->size()) +
+                                " poses, the graph " + std::to_string(n));
+  }
+  int correct_draws = 0;
   const auto information = graph->loops().empty()
                                ? graph->odometry().at(0).information
                                : graph->loops().front().information;
@@ -89,7 +109,9 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
       throw std::invalid_argument("found no free pose pair for false loop " +
                                   std::to_string(added.size() + 1) + " of " +
                                   std::to_string(options.count) + " in " +
-                                  std::to_string(most_draws) + " draws");
+                                  std::to_string(most_draws) + " draws (" +
+                                  std::to_string(correct_draws) +
+                                  " discarded as correct loops)");
     }
     const int i = any(rng);
     const int j = options.local ? i + offset(rng) : any(rng);
@@ -99,9 +121,13 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
     // like a real revisit's.
     const Pose measurement =
         RandomMeasurement(rng, static_cast<const Pose*>(nullptr));
-    for (int k = 0;
-         k < options.group && static_cast<int>(added.size()) < options.count;
-         ++k) {
+    const int links =
+        std::min(options.group, options.count - static_cast<int>(added.size()));
+    if (reference && AnyLinkCorrect(*reference, i, j, links, measurement)) {
+      ++correct_draws;
+      continue;
+    }
+    for (int k = 0; k < links; ++k) {
       Constraint<Pose> loop;
       loop.from = i + k;
       loop.to = j + k;
@@ -112,12 +138,15 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
       added.push_back(static_cast<int>(graph->loops().size()) - 1);
     }
   }
+  if (discarded) *discarded = correct_draws;
   return added;
 }
 
 template std::vector<int> AddFalseLoops(PoseGraph<Pose2>*,
-                                        const FalseLoopOptions&);
+                                        const FalseLoopOptions&,
+                                        const std::vector<Pose2>*, int*);
 template std::vector<int> AddFalseLoops(PoseGraph<Pose3>*,
-                                        const FalseLoopOptions&);
+                                        const FalseLoopOptions&,
+                                        const std::vector<Pose3>*, int*);
 
 }  // namespace rrr

@@ -5,6 +5,7 @@
 #include <set>
 #include <utility>
 
+#include "rrr/eval/ground_truth.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/sim/false_loops.h"
@@ -93,6 +94,57 @@ TEST(AddFalseLoops, NeverSharesAPairOfPosesWithAnotherLoop) {
   options.count = 3;
   auto full = g;
   EXPECT_THROW(AddFalseLoops(&full, options), std::invalid_argument);
+}
+
+TEST(AddFalseLoops, WithAReferenceEveryLoopIsWrongThere) {
+  // A robot that goes back and forth over 0.5 m: nearby poses 2..4 apart
+  // are nearly in one place, where a drawn measurement is often right.
+  PoseGraph<Pose2> g;
+  std::vector<Pose2> truth;
+  for (int k = 0; k < 300; ++k) {
+    truth.emplace_back(0.25 * (k % 3), 0.0, 0.0);
+    g.AddPose(k, truth.back());
+  }
+  Constraint<Pose2> e;
+  for (int k = 0; k + 1 < 300; ++k) {
+    e.from = k;
+    e.to = k + 1;
+    e.measurement = truth[k].between(truth[k + 1]);
+    g.AddEdge(e);
+  }
+  FalseLoopOptions options;
+  options.count = 60;
+  options.local = true;
+  options.local_range = 4;
+  options.group = 2;
+  const auto correct_ones = [&](const PoseGraph<Pose2>& spoiled,
+                                const std::vector<int>& added) {
+    int correct = 0;
+    for (const int k : added) {
+      const auto& l = spoiled.loops()[k];
+      correct += JudgeLoop(l.measurement, truth[l.from], truth[l.to]).metric;
+    }
+    return correct;
+  };
+  auto unchecked = g;
+  EXPECT_GT(correct_ones(unchecked, AddFalseLoops(&unchecked, options)), 10);
+  auto checked = g;
+  int discarded = -1;
+  const auto added = AddFalseLoops(&checked, options, &truth, &discarded);
+  EXPECT_EQ(added.size(), 60u);
+  EXPECT_EQ(correct_ones(checked, added), 0);
+  EXPECT_GT(discarded, 5);
+  // The same seed and reference, the same loops.
+  auto again = g;
+  AddFalseLoops(&again, options, &truth);
+  for (const int k : added) {
+    EXPECT_EQ(again.loops()[k].from, checked.loops()[k].from);
+    EXPECT_EQ(again.loops()[k].measurement.x(),
+              checked.loops()[k].measurement.x());
+  }
+  // A reference of another length is an error.
+  truth.pop_back();
+  EXPECT_THROW(AddFalseLoops(&again, options, &truth), std::invalid_argument);
 }
 
 TEST(AddFalseLoops, Works3DAndRejectsBadOptions) {
