@@ -23,7 +23,8 @@ struct GridWorldOptions {
   // yields a (true) loop candidate, and the noise of its measurement.
   double loop_probability = 0.5;
   int min_gap = 30;
-  // False loops, drawn as `rrr spoil` draws them, in groups of `group`.
+  // False loops, drawn as `rrr spoil` draws them (each wrong at the true
+  // poses), in groups of `group`.
   int false_loops = 40;
   int group = 1;
   std::uint64_t seed = 1;

@@ -100,7 +100,7 @@ SimulatedWorld SimulateGridWorld(const GridWorldOptions& options) {
   spoil.count = options.false_loops;
   spoil.group = options.group;
   spoil.seed = options.seed + 1;
-  world.false_loops = AddFalseLoops(&world.graph, spoil);
+  world.false_loops = AddFalseLoops(&world.graph, spoil, &world.truth);
   return world;
 }
 
