@@ -4,6 +4,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -229,14 +230,14 @@ template <class Pose>
 void MapVerifier<Pose>::JudgeCluster(int c) {
   ClusterRecord& record = records_[c];
   record.judged_scale = NoiseScaleAt(decision_pose_);
-  const IntraClusterOutcome intra = MapIntraCluster(
+  IntraClusterOutcome intra = MapIntraCluster(
       this->graph(), chain_, clustering_.clusters()[c].loops, alone_chi2_,
       record.judged_scale, chi2_, options_.convergence);
   stats_.intra_solves += intra.solves;
   stats_.not_converged += intra.not_converged;
   this->CountSolves(intra.solves);
   record.refuted = intra.refuted;
-  record.survivors = intra.survivors;
+  record.survivors = std::move(intra.survivors);
   if (record.survivors.empty()) {
     record.status = Status::kRejected;
     touched_.push_back(c);
