@@ -110,6 +110,8 @@ void Verify(const PoseGraph<Pose>& graph,
                                {"pruned", stats.pruned},
                                {"reversals", stats.reversals},
                                {"reopened", stats.reopened},
+                               {"reviewed", stats.reviewed},
+                               {"regrouped", stats.regrouped},
                                {"optimizations", stats.optimizations},
                                {"not_converged", stats.not_converged}};
     report["noise_scale"] = {{"value", stats.noise_scale},

@@ -68,6 +68,10 @@ class MaintainedMap {
   // minimized without them, and that improvement of the estimate is kept;
   // otherwise the map is unchanged until KeepTrial().
   MapTrial Try(const std::vector<int>& loops, int radius);
+  // What `loops`, all in the map, bring to it: Try() on the map as
+  // Remove(loops, radius, significant) would leave it. The map is unchanged
+  // (and the last Try() dropped).
+  MapTrial Retry(const std::vector<int>& loops, int radius, double significant);
   // Adds the loops of the last Try() with the estimate it found, then
   // relaxes as Relax(loops, 2 · its radius, significant). Throws
   // std::logic_error if the map changed since (another Try, Add, Remove or
@@ -106,6 +110,8 @@ class MaintainedMap {
                     const std::vector<int>& extra);
   // Marks `loops` (whose ends are junctions) as loops of the map.
   void Attach(const std::vector<int>& loops);
+  // Unmarks `loops` (those in the map); their ends stay junctions.
+  void Detach(const std::vector<int>& loops);
 
   const PoseGraph<Pose>& graph_;
   const OdometryChain<Pose>& chain_;

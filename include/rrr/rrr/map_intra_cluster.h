@@ -15,9 +15,13 @@ namespace rrr {
 // What MapIntraCluster found.
 struct IntraClusterOutcome {
   std::vector<int> survivors;  // the links kept; empty: the cluster fails
-  bool refuted = false;        // some link was refuted by the odometry alone
-  int solves = 0;              // condensed solves run
-  int not_converged = 0;       // of them, stopped by the iteration limit
+  // When some survive: the links the greedy left out that the odometry
+  // does not refute alone. The odometry could not tell which links of the
+  // cluster agree; a map that holds more may (MapVerifier, step 5).
+  std::vector<int> left_out;
+  bool refuted = false;   // some link was refuted by the odometry alone
+  int solves = 0;         // condensed solves run
+  int not_converged = 0;  // of them, stopped by the iteration limit
 };
 
 // The intra-cluster test of the map procedure (MapVerifier, step 1) on the
@@ -30,8 +34,8 @@ struct IntraClusterOutcome {
 //    time; when D² passes, the links with d²_l < s·χ²(α, e) survive;
 //  - if none survives, the links dropped before the drop that lowered D²
 //    the most go through the same greedy alone, once.
-// Survivors keep their order in `cluster`. `chain` must be the chain of
-// `graph`.
+// Survivors and left_out keep their order in `cluster`.
+// `chain` must be the chain of `graph`.
 template <class Pose>
 IntraClusterOutcome MapIntraCluster(const PoseGraph<Pose>& graph,
                                     const OdometryChain<Pose>& chain,

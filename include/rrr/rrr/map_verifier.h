@@ -28,6 +28,8 @@ struct MapVerifierStats {
   int optimizations = 0;            // whole-map minimizations
   int not_converged = 0;            // deciding solves stopped by the limit
   int pruned = 0;                   // accepted after dropping strained links
+  int reviewed = 0;                 // split clusters tried again (step 5)
+  int regrouped = 0;                // of them, refuted and judged again
   double noise_scale = 1.0;         // s of the gates at the end
   std::string noise_scale_source;   // see OnlineVerifier::noise_scale_source
   double a_posteriori_scale = 0.0;  // MapVerifier::APosterioriScale at the end
@@ -48,7 +50,10 @@ struct MapVerifierStats {
 //     pass s·χ²(α, e); if none is left, the links dropped before D² fell most
 //     are judged alone, once (a cluster can join a revisit and a false group
 //     that looks like one, and the revisit can go first). A cluster left
-//     empty is rejected for good.
+//     empty is rejected for good. If some links survive and at least one
+//     was left out for every kSplitRatio kept, none of them refuted by the
+//     odometry alone, the cluster is split: the odometry could not tell
+//     which of its links agree.
 //  2. Against the map: Δ, the increase of the map's minimal error when the
 //     surviving links S join it, must stay below s·χ²(α, e·|S|), the
 //     redundancy S adds, and every link's d²_l below s·χ²(α, e) (as in
@@ -74,7 +79,21 @@ struct MapVerifierStats {
 //     group riding in a revisit fails link by link, in more links than step 3
 //     drops. If they fit, they are accepted without the others, else S is set
 //     aside.
-//  5. Re-opening: after a reversal, and after each whole-map minimization
+//  5. Re-opening: at each whole-map minimization, every accepted split
+//     cluster is reviewed that has not been since the acceptances so far
+//     (accepted clusters and re-acceptances) grew kReviewGrowth-fold (a
+//     bounded share of the work: each is reviewed O(log n) times over n
+//     acceptances): its survivors are tried against the map without
+//     them as in step 2 (their own error at the map's minimum understates
+//     the increase they bring, by the share the rest of the map absorbs).
+//     If they fail, the cluster leaves the map, and its links that the
+//     odometry does not refute alone are judged against the map: each
+//     alone (step 2's test), then grown into a group from the one with the
+//     least Δ, adding each that fits alone in order of its Δ while the
+//     group still fits (dropping the worst link of a compromise, as step 1
+//     does, lets two links that agree outvote the one the map holds). The
+//     group is accepted, else the cluster is set aside. Then, after a
+//     reversal and after each whole-map minimization,
 //     (see RrrOptions::optimize_every), every set-aside cluster
 //     whose error at the map's estimate is under its gate is judged again,
 //     every accepted cluster whose error is over it is judged again, and
@@ -100,6 +119,14 @@ class MapVerifier : public OnlineVerifier<Pose> {
   static constexpr int kWideRadiusFactor = 4;
   // Links a cluster may lose in step 3 before it is judged a conflict.
   static constexpr int kMostPrunedLinks = 3;
+  // A cluster is split when step 1 left out at least one link for every
+  // kSplitRatio it kept, none of them refuted by the odometry alone (a
+  // close vote: a revisit of many links that leaves out a few is not in
+  // doubt).
+  static constexpr size_t kSplitRatio = 2;
+  // A split cluster is reviewed again once the acceptances so far grew by
+  // this factor since its last review (step 5).
+  static constexpr double kReviewGrowth = 1.5;
 
   // Throws std::invalid_argument if `options` do not validate.
   explicit MapVerifier(const RrrOptions& options);
@@ -130,9 +157,11 @@ class MapVerifier : public OnlineVerifier<Pose> {
   struct ClusterRecord {
     Status status = Status::kPending;
     std::vector<int> survivors;  // links kept by the intra-cluster test
+    std::vector<int> left_out;   // IntraClusterOutcome::left_out
     int ready_pose = -1;         // pose index at which it became ready
     double judged_scale = 0.0;   // s of its last intra-cluster test
-    bool refuted = false;        // some link refuted by the odometry alone
+    int reviewed_at = 0;   // acceptances so far at its last review (step 5)
+    bool refuted = false;  // some link refuted by the odometry alone
   };
 
   std::vector<DecisionChange> Judge(bool finish);
@@ -147,16 +176,18 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Steps 2 to 4 for a cluster that passed step 1.
   void JudgeAgainstMap(int c);
   // Tries `links` against the map within map_radius hops, and within
-  // kWideRadiusFactor times that on a near miss of `gate`.
+  // kWideRadiusFactor times that on a near miss of `gate`; links in the map
+  // as if they were not (MaintainedMap::Retry).
   MapTrial TryAgainstMap(const std::vector<int>& links, double gate);
   // Step 3 for cluster `c`, whose survivors failed `trial`: while the worst
   // link's d²_l is over s·χ²(α, e), drops it and tries the rest; if the rest
   // fits, it becomes the survivors and `c` is accepted (returns true).
   bool Prune(int c, const MapTrial& failed);
-  // Tries `part` of c's survivors against the map; if it fits (Fits), it
-  // becomes c's survivors and `c` is accepted (`*accepted`, counted as
-  // pruned). Returns the trial.
+  // Tries `part`, links of cluster `c`, against the map; if it fits (Fits),
+  // it becomes c's survivors and `c` is accepted (`*accepted`). Returns the
+  // trial.
   MapTrial TryPart(int c, const std::vector<int>& part, bool* accepted);
+
   // The end of step 4 for cluster `c`, whose survivors failed `failed`: tries
   // the links that `failed` left under s·χ²(α, e) alone, once; if they fit,
   // they become the survivors and `c` is accepted (returns true).
@@ -177,7 +208,15 @@ class MapVerifier : public OnlineVerifier<Pose> {
   void LeaveMap(int c);
   // Step 5, once.
   void Reopen();
-  // Step 5 until the map stops calling for it (at most kMostReopenRounds).
+  // Step 5's review of the accepted split clusters.
+  void ReviewSplitClusters();
+  // Judges the links of cluster `c` (out of the map) that step 1 did not
+  // refute against the map: each alone, then a group grown from the one
+  // with the least Δ by each other that fits alone, in order of its Δ, if
+  // the group still fits with it. Accepts the group, else sets `c` aside.
+  void RegroupAgainstMap(int c);
+  // Step 5 (first the review, if a whole-map minimization called for it)
+  // until the map stops calling for it (at most kMostReopenRounds).
   void ReopenWhileNeeded();
   static constexpr int kMostReopenRounds = 3;
   static constexpr double kRejudgeScaleRatio = 2.0;
@@ -214,6 +253,7 @@ class MapVerifier : public OnlineVerifier<Pose> {
   int accepted_since_optimize_ = 0;
   int accepted_clusters_ = 0;  // acceptances so far (with re-acceptances)
   bool reopen_needed_ = false;
+  bool review_needed_ = false;  // a whole-map minimization since the review
   MapVerifierStats stats_;
 };
 

@@ -12,6 +12,7 @@
 #include "../testing/replay.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/eval/loop_scores.h"
+#include "rrr/eval/trajectory_error.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
 #include "rrr/rrr/verify_with_map.h"
@@ -110,6 +111,66 @@ TEST_P(BicoccaMapProcedureTest, FullPrecisionAndAtLeastTheReferenceRecall) {
 }
 INSTANTIATE_TEST_SUITE_P(AllLevels, BicoccaMapProcedureTest,
                          ::testing::ValuesIn(AllLevels()));
+
+// The ground-truth position of each pose index of `graph` that has one
+// within 0.25 s (as rrr evaluate associates them), by pose index.
+std::map<int, Eigen::Vector2d> TruePositions(const PoseGraph2& graph) {
+  const std::string dir = testing::DatasetDir() + "/bicocca25b/";
+  const auto stamped =
+      ReadStampedPoses(dir + "Bicocca_2009-02-25b-GT-extended.csv");
+  std::vector<double> gt_times;
+  for (const auto& s : stamped) gt_times.push_back(s.first);
+  const std::vector<int> match = AssociateByTime(
+      ReadTimestamps(dir + "B25b_timestamps.txt"), gt_times, 0.25);
+  std::map<int, Eigen::Vector2d> out;
+  for (int k = 0; k < graph.num_poses(); ++k) {
+    const auto id = static_cast<size_t>(graph.ids()[k]);
+    if (id < match.size() && match[id] >= 0) {
+      out[k] = stamped[match[id]].second.translation();
+    }
+  }
+  return out;
+}
+
+double Ate(const std::vector<Pose2>& map,
+           const std::map<int, Eigen::Vector2d>& truth) {
+  Eigen::MatrixXd estimate(2, truth.size()), reference(2, truth.size());
+  int col = 0;
+  for (const auto& [k, p] : truth) {
+    estimate.col(col) = map[k].translation();
+    reference.col(col++) = p;
+  }
+  return AbsoluteTrajectoryError(estimate, reference);
+}
+
+// The map procedure's map against the map of exactly the correct candidates
+// (topological rule), each optimized to convergence: an ATE at most 10 %
+// higher at every level (BENCHMARKS.md's bar).
+TEST_P(BicoccaMapProcedureTest, AteWithinATenthOfTheCorrectCandidatesMap) {
+  const std::string level = GetParam();
+  std::string missing;
+  const auto bicocca = testing::ReadBicocca(level, &missing);
+  if (!bicocca) GTEST_SKIP() << missing;
+  const PoseGraph2& graph = *bicocca;
+  RrrOptions options;
+  options.cluster_window = 50;
+  std::vector<Pose2> maintained;
+  const Verdict v = VerifyWithMap(graph, options, &maintained);
+  const auto labels = ReadLoopLabels(
+      testing::DatasetDir() + "/bicocca25b/labels_all_levels.txt", level);
+  std::vector<int> correct;
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const LoopKey key{graph.ids()[graph.loops()[k].from],
+                      graph.ids()[graph.loops()[k].to]};
+    if (labels.at(key).topological) correct.push_back(static_cast<int>(k));
+  }
+  const GaussNewton<Pose2> solver(graph, 4);
+  const auto truth = TruePositions(graph);
+  const double ours =
+      Ate(solver.Optimize(v.accepted, {}, nullptr, &maintained), truth);
+  const double best = Ate(solver.Optimize(correct, {}), truth);
+  EXPECT_LE(ours, 1.1 * best) << "level " << level;
+}
 
 }  // namespace
 }  // namespace rrr

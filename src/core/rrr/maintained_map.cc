@@ -238,6 +238,33 @@ MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius) {
 }
 
 template <class Pose>
+MapTrial MaintainedMap<Pose>::Retry(const std::vector<int>& loops, int radius,
+                                    double significant) {
+  last_trial_.reset();
+  const std::vector<int> ends = PosesTouched(graph_, loops);
+  std::vector<std::vector<int>> lists;  // the ends' loops, in their order
+  lists.reserve(ends.size());
+  for (const int p : ends) lists.push_back(junctions_.at(p).loops);
+  const int num_loops = num_loops_;
+  std::vector<Pose> before;  // every junction's estimate, in order
+  before.reserve(junctions_.size());
+  for (const auto& [pose, j] : junctions_) before.push_back(j.x);
+  Detach(loops);
+  Relax(loops, radius, significant);
+  const std::vector<int> region = Region(ends, radius);
+  Minimize(region, {});
+  MapTrial trial = Minimize(region, loops);
+  auto x = before.begin();
+  for (auto& [pose, j] : junctions_) j.x = *x++;
+  for (size_t k = 0; k < ends.size(); ++k) {
+    junctions_.at(ends[k]).loops = std::move(lists[k]);
+  }
+  for (const int k : loops) in_map_[k] = true;
+  num_loops_ = num_loops;
+  return trial;
+}
+
+template <class Pose>
 void MaintainedMap<Pose>::KeepTrial(double significant) {
   if (!last_trial_) throw std::logic_error("no trial to keep");
   const std::unique_ptr<KeptTrial> trial = std::move(last_trial_);
@@ -277,6 +304,19 @@ void MaintainedMap<Pose>::Attach(const std::vector<int>& loops) {
 }
 
 template <class Pose>
+void MaintainedMap<Pose>::Detach(const std::vector<int>& loops) {
+  for (const int k : loops) {
+    if (!Contains(k)) continue;
+    in_map_[k] = false;
+    --num_loops_;
+    for (const int p : {graph_.loops()[k].from, graph_.loops()[k].to}) {
+      auto& list = junctions_.at(p).loops;
+      list.erase(std::find(list.begin(), list.end(), k));
+    }
+  }
+}
+
+template <class Pose>
 void MaintainedMap<Pose>::Add(const std::vector<int>& loops, int radius,
                               double significant) {
   for (const int p : PosesTouched(graph_, loops)) Insert(p, false);
@@ -288,15 +328,7 @@ template <class Pose>
 void MaintainedMap<Pose>::Remove(const std::vector<int>& loops, int radius,
                                  double significant) {
   const std::vector<int> ends = PosesTouched(graph_, loops);
-  for (const int k : loops) {
-    if (!Contains(k)) continue;
-    in_map_[k] = false;
-    --num_loops_;
-    for (const int p : {graph_.loops()[k].from, graph_.loops()[k].to}) {
-      auto& list = junctions_.at(p).loops;
-      list.erase(std::find(list.begin(), list.end(), k));
-    }
-  }
+  Detach(loops);
   Relax(loops, radius, significant);
   for (const int p : ends) Release(p);
 }

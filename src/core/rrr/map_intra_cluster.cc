@@ -82,6 +82,14 @@ IntraClusterOutcome MapIntraCluster(const PoseGraph<Pose>& graph,
     outcome.survivors = GreedySurvivors(graph, chain, dropped_first, scale,
                                         chi2, convergence, nullptr, &outcome);
   }
+  if (!outcome.survivors.empty()) {
+    for (const int loop : members) {
+      if (std::find(outcome.survivors.begin(), outcome.survivors.end(), loop) ==
+          outcome.survivors.end()) {
+        outcome.left_out.push_back(loop);
+      }
+    }
+  }
   return outcome;
 }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "../testing/noisy_chain.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/solver/condensed_solve.h"
@@ -42,6 +44,7 @@ TEST(MapIntraCluster, KeepsEveryLinkOfATrueRevisit) {
       MapIntraCluster(graph, chain, {0, 1, 2, 3, 4}, AloneChi2(graph, chain),
                       1.0, kChi2, ConvergenceOptions());
   EXPECT_EQ(outcome.survivors, (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_TRUE(outcome.left_out.empty());
   EXPECT_FALSE(outcome.refuted);
   EXPECT_EQ(outcome.solves, 1);
   EXPECT_EQ(outcome.not_converged, 0);
@@ -56,6 +59,7 @@ TEST(MapIntraCluster, LeavesOutALinkTheOdometryRefutesAlone) {
   const IntraClusterOutcome outcome = MapIntraCluster(
       graph, chain, {0, 1, 5, 3, 4}, alone, 1.0, kChi2, ConvergenceOptions());
   EXPECT_EQ(outcome.survivors, (std::vector<int>{0, 1, 3, 4}));
+  EXPECT_TRUE(outcome.left_out.empty());  // refuted, not left out
   EXPECT_TRUE(outcome.refuted);
   EXPECT_EQ(outcome.solves, 1);  // the rest passes at once
 }
@@ -70,8 +74,40 @@ TEST(MapIntraCluster, DropsTheWorstLinkUntilTheRestIsConsistent) {
   const IntraClusterOutcome outcome = MapIntraCluster(
       graph, chain, {0, 1, 2, 3, 5}, alone, 1.0, kChi2, ConvergenceOptions());
   EXPECT_EQ(outcome.survivors, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(outcome.left_out, (std::vector<int>{5}));
   EXPECT_FALSE(outcome.refuted);
   EXPECT_EQ(outcome.solves, 2);
+}
+
+TEST(MapIntraCluster, KeepsOneOfTwoAccountsAndLeavesOutTheOther) {
+  // Links 3 and 4 again, both moved 1 m the same way: two accounts of the
+  // revisit that each fit the odometry, three links against two.
+  PoseGraph<Pose2> graph = Revisit();
+  AddSpoiledCopy(&graph, 3, 1.0);
+  AddSpoiledCopy(&graph, 4, 1.0);
+  const OdometryChain<Pose2> chain = ChainOf(graph);
+  const std::vector<double> alone = AloneChi2(graph, chain);
+  const IntraClusterOutcome outcome = MapIntraCluster(
+      graph, chain, {0, 1, 2, 5, 6}, alone, 1.0, kChi2, ConvergenceOptions());
+  // The greedy, dropping the worst link of each compromise, keeps one
+  // account (not always the larger) and leaves out the other.
+  const std::set<std::vector<int>> accounts{outcome.survivors,
+                                            outcome.left_out};
+  EXPECT_EQ(accounts, (std::set<std::vector<int>>{{0, 1, 2}, {5, 6}}));
+}
+
+TEST(MapIntraCluster, AMajorityThatAgreesLeavesOutTheRevisit) {
+  // Three links moved 1 m the same way outnumber the two true ones: the
+  // odometry cannot tell which account is right, and the greedy keeps the
+  // larger.
+  PoseGraph<Pose2> graph = Revisit();
+  for (const int k : {2, 3, 4}) AddSpoiledCopy(&graph, k, 1.0);
+  const OdometryChain<Pose2> chain = ChainOf(graph);
+  const std::vector<double> alone = AloneChi2(graph, chain);
+  const IntraClusterOutcome outcome = MapIntraCluster(
+      graph, chain, {0, 1, 5, 6, 7}, alone, 1.0, kChi2, ConvergenceOptions());
+  EXPECT_EQ(outcome.survivors, (std::vector<int>{5, 6, 7}));
+  EXPECT_EQ(outcome.left_out, (std::vector<int>{0, 1}));
 }
 
 TEST(MapIntraCluster, AScaleTooSmallForTheNoiseRejectsTheRevisit) {

@@ -1,6 +1,7 @@
 #include "rrr/rrr/map_verifier.h"
 
 #include <algorithm>
+#include <iterator>
 #include <numeric>
 #include <stdexcept>
 #include <tuple>
@@ -238,6 +239,7 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
   this->CountSolves(intra.solves);
   record.refuted = intra.refuted;
   record.survivors = std::move(intra.survivors);
+  record.left_out = std::move(intra.left_out);
   if (record.survivors.empty()) {
     record.status = Status::kRejected;
     touched_.push_back(c);
@@ -249,15 +251,19 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
 template <class Pose>
 MapTrial MapVerifier<Pose>::TryAgainstMap(const std::vector<int>& links,
                                           double gate) {
-  ++stats_.trials;
-  this->CountSolves(1);
-  MapTrial trial = map_->Try(links, options_.map_radius);
+  // Links in the map (a review) are tried as if they were not.
+  const bool in_map = map_->Contains(links.front());
+  const auto attempt = [&](int radius) {
+    ++stats_.trials;
+    this->CountSolves(1);
+    return in_map ? map_->Retry(links, radius, Significant())
+                  : map_->Try(links, radius);
+  };
+  MapTrial trial = attempt(options_.map_radius);
   // A near miss may be the held boundary's doing: look wider.
   if (trial.minimize.solved && trial.increase >= gate &&
       trial.increase < kNearMissFactor * gate) {
-    ++stats_.trials;
-    this->CountSolves(1);
-    trial = map_->Try(links, kWideRadiusFactor * options_.map_radius);
+    trial = attempt(kWideRadiusFactor * options_.map_radius);
   }
   if (!trial.minimize.converged) ++stats_.not_converged;
   return trial;
@@ -284,7 +290,6 @@ MapTrial MapVerifier<Pose>::TryPart(int c, const std::vector<int>& part,
   MapTrial trial = TryAgainstMap(part, gate);
   *accepted = Fits(trial, gate);
   if (*accepted) {
-    ++stats_.pruned;
     records_[c].survivors = part;
     AcceptTrial(c, trial.increase);
   }
@@ -304,7 +309,10 @@ bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
     links.erase(links.begin() + (worst - loop_chi2.begin()));
     bool accepted = false;
     MapTrial trial = TryPart(c, links, &accepted);
-    if (accepted) return true;
+    if (accepted) {
+      ++stats_.pruned;
+      return true;
+    }
     solved = trial.minimize.solved;
     loop_chi2 = std::move(trial.loop_chi2);
   }
@@ -323,6 +331,7 @@ bool MapVerifier<Pose>::AcceptFittingLinks(int c, const MapTrial& failed) {
   if (fitting.empty() || fitting.size() == links.size()) return false;
   bool accepted = false;
   TryPart(c, fitting, &accepted);
+  stats_.pruned += accepted;
   return accepted;
 }
 
@@ -454,10 +463,70 @@ void MapVerifier<Pose>::OptimizeMap() {
   scale_.SetClusterSamplesAtMinimum(AcceptedAtEstimate(), result.final_chi2);
   accepted_since_optimize_ = 0;
   reopen_needed_ = true;
+  review_needed_ = true;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::ReviewSplitClusters() {
+  review_needed_ = false;
+  const int e = Pose::kDof;
+  for (size_t i = 0; i < records_.size(); ++i) {
+    const int c = static_cast<int>(i);
+    ClusterRecord& record = records_[c];
+    if (record.status != Status::kAccepted ||
+        record.left_out.size() * kSplitRatio < record.survivors.size() ||
+        accepted_clusters_ < kReviewGrowth * record.reviewed_at) {
+      continue;
+    }
+    ++stats_.reviewed;
+    record.reviewed_at = accepted_clusters_;
+    const double gate = Gate(e * static_cast<int>(record.survivors.size()));
+    if (Fits(TryAgainstMap(record.survivors, gate), gate)) continue;
+    LeaveMap(c);
+    scale_.RemoveClusterSample(c);
+    RegroupAgainstMap(c);
+    reopen_needed_ = true;
+  }
+}
+
+template <class Pose>
+void MapVerifier<Pose>::RegroupAgainstMap(int c) {
+  ++stats_.regrouped;
+  ClusterRecord& record = records_[c];
+  std::vector<int> all = record.survivors;
+  all.insert(all.end(), record.left_out.begin(), record.left_out.end());
+  std::sort(all.begin(), all.end());
+  // Each link alone, then the group grown from the one that fits best.
+  const double one_link = Gate(Pose::kDof);
+  std::vector<std::pair<double, int>> alone;  // (Δ, loop) of those that fit
+  for (const int loop : all) {
+    const MapTrial trial = TryAgainstMap({loop}, one_link);
+    if (Fits(trial, one_link)) alone.emplace_back(trial.increase, loop);
+  }
+  std::sort(alone.begin(), alone.end());
+  std::vector<int> group;
+  for (const auto& [increase, loop] : alone) {
+    std::vector<int> grown = group;
+    grown.insert(std::upper_bound(grown.begin(), grown.end(), loop), loop);
+    const double gate = Gate(Pose::kDof * static_cast<int>(grown.size()));
+    if (group.empty() || Fits(TryAgainstMap(grown, gate), gate)) {
+      group = std::move(grown);
+    }
+  }
+  bool accepted = false;
+  if (!group.empty()) TryPart(c, group, &accepted);
+  if (!accepted) {
+    SetAside(c);
+    return;
+  }
+  record.left_out.clear();
+  std::set_difference(all.begin(), all.end(), group.begin(), group.end(),
+                      std::back_inserter(record.left_out));
 }
 
 template <class Pose>
 void MapVerifier<Pose>::ReopenWhileNeeded() {
+  if (review_needed_) ReviewSplitClusters();
   // Each round may change the map and call for another; a few suffice.
   for (int round = 0; round < kMostReopenRounds && reopen_needed_; ++round) {
     Reopen();
