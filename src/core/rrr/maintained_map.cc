@@ -66,7 +66,7 @@ Pose MaintainedMap<Pose>::Estimate(int pose) const {
   auto prev = std::prev(next);
   if (prev->first == pose) return prev->second.x;
   const Constraint<Pose> from_prev = chain_.Between(prev->first, pose);
-  const Pose forward = prev->second.x * from_prev.measurement;
+  Pose forward = prev->second.x * from_prev.measurement;
   if (next == junctions_.end()) return forward;
   return BestBetween(from_prev, prev->second.x,
                      chain_.Between(pose, next->first), next->second.x,
