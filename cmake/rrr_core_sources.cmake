@@ -36,6 +36,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/map_verifier.cc
   src/core/rrr/verify_with_map.cc
   src/core/rrr/noise_scale.cc
+  src/core/rrr/running_quantile.cc
   src/core/rrr/options.cc
   src/core/rrr/batch_verifier.cc
   src/core/rrr/online_verifier.cc

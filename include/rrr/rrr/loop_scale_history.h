@@ -20,11 +20,11 @@ class LoopScaleHistory {
   // size() to `poses` - 1 (nothing if `poses` <= size()).
   void ExtendTo(int poses, double value, int samples);
   // Computes every entry from pose index `pose` on again from `samples`,
-  // each (poses at its arrival, D² of the loop alone), with
-  // `estimate`.FromLoopSamples: for when samples arrived late, with a pose
-  // already recorded.
+  // each (poses at its arrival, D² of the loop alone), as
+  // NoiseScaleEstimate(`residual_dim`).FromLoops() after those that arrived
+  // by then: for when samples arrived late, with a pose already recorded.
   void RecomputeFrom(int pose, std::vector<std::pair<int, double>> samples,
-                     const NoiseScaleEstimate& estimate);
+                     int residual_dim);
   // The estimate at pose index `pose`, clamped to the recorded poses; 1 (the
   // information matrices as given) if none is recorded.
   double At(int pose) const;

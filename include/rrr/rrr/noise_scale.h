@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "rrr/rrr/running_quantile.h"
+
 namespace rrr {
 
 // The noise scale s: the factor by which the covariances of the edges must
@@ -42,12 +44,11 @@ class NoiseScaleEstimate {
 
   // The minimal error of one loop minimized alone with the odometry.
   void AddLoopSample(double chi2);
-  // The estimate from the loop samples so far: min(1, quantile ratio).
+  // The estimate from the loop samples so far: min(1, quantile ratio); 1
+  // while there is none. O(log n) per sample.
   double FromLoops() const { return from_loops_; }
-  // The same estimate from the minimal errors `chi2` of some loops (1 when
-  // there is none).
-  double FromLoopSamples(const std::vector<double>& chi2) const;
-  int num_loop_samples() const { return static_cast<int>(loops_.size()); }
+  int num_loop_samples() const { return loops_.size(); }
+  int residual_dim() const { return residual_dim_; }
 
   // Cluster `cluster` was accepted, raising the map's minimal error by
   // `increase` with `dof` degrees of freedom; replaces an earlier sample.
@@ -77,15 +78,12 @@ class NoiseScaleEstimate {
   std::string Source() const;
 
  private:
-  // min(1, the kLoopQuantile-quantile of `per_dof` (D²/e, not empty) over
-  // that of χ²_e/e).
-  double RatioOf(const std::vector<double>& per_dof) const;
   // Recomputes the clusters' estimate from clusters_.
   void UpdateFromClusters();
 
   int residual_dim_;
   double chi2_quantile_ratio_;  // kLoopQuantile-quantile of χ²_e / e
-  std::vector<double> loops_;   // D²/e of each loop sample
+  RunningQuantile loops_{kLoopQuantile};  // of D²/e of the loop samples
   double from_loops_ = 1.0;
   std::map<int, double> clusters_;   // error/dof by cluster
   double from_clusters_ = 0.0;       // 0 while the loops' estimate is in force

@@ -12,25 +12,19 @@ void LoopScaleHistory::ExtendTo(int poses, double value, int samples) {
 }
 
 void LoopScaleHistory::RecomputeFrom(
-    int pose, std::vector<std::pair<int, double>> samples,
-    const NoiseScaleEstimate& estimate) {
+    int pose, std::vector<std::pair<int, double>> samples, int residual_dim) {
   std::stable_sort(
       samples.begin(), samples.end(),
       [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<double> before;  // D² of the loops that arrived by pose p
+  NoiseScaleEstimate before(residual_dim);  // the loops that arrived by p
   size_t next = 0;
-  double value = 1.0;
   for (int p = 0; p < size(); ++p) {
-    const size_t had = before.size();
     while (next < samples.size() && samples[next].first <= p) {
-      before.push_back(samples[next++].second);
+      before.AddLoopSample(samples[next++].second);
     }
     if (p < pose) continue;
-    if (p == pose || before.size() != had) {
-      value = estimate.FromLoopSamples(before);
-    }
-    values_[p] = value;
-    samples_[p] = static_cast<int>(before.size());
+    values_[p] = before.FromLoops();
+    samples_[p] = before.num_loop_samples();
   }
 }
 

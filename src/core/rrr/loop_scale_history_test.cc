@@ -24,7 +24,6 @@ TEST(LoopScaleHistory, HoldsEachPosesValueAndClampsBeyond) {
 }
 
 TEST(LoopScaleHistory, RecomputesFromAPoseWithLateSamples) {
-  const NoiseScaleEstimate estimate(3);
   std::mt19937 rng(4);
   std::chi_squared_distribution<double> chi2(3);
   // 40 loops at scale 0.02 that arrived at poses 0..39, only recorded late.
@@ -32,14 +31,14 @@ TEST(LoopScaleHistory, RecomputesFromAPoseWithLateSamples) {
   for (int k = 39; k >= 0; --k) samples.emplace_back(k, 0.02 * chi2(rng));
   LoopScaleHistory history;
   history.ExtendTo(50, 1.0, 0);
-  history.RecomputeFrom(20, samples, estimate);
+  history.RecomputeFrom(20, samples, 3);
   EXPECT_EQ(history.At(19), 1.0);  // before `pose`: kept
   EXPECT_EQ(history.FirstWith(21), 20);
   EXPECT_EQ(history.FirstWith(40), 39);
   // From pose 20 on, each entry is the estimate from the loops by then.
-  std::vector<double> by_45;
-  for (const auto& [arrival, d2] : samples) by_45.push_back(d2);
-  EXPECT_DOUBLE_EQ(history.At(45), estimate.FromLoopSamples(by_45));
+  NoiseScaleEstimate by_45(3);
+  for (const auto& [arrival, d2] : samples) by_45.AddLoopSample(d2);
+  EXPECT_DOUBLE_EQ(history.At(45), by_45.FromLoops());
   EXPECT_LT(history.At(45), 0.1);
 }
 

@@ -137,7 +137,7 @@ void MapVerifier<Pose>::RecordScalesFrom(int pose) {
       samples.emplace_back(this->poses_at_arrival(loop), alone_chi2_[loop]);
     }
   }
-  loop_scales_.RecomputeFrom(pose, std::move(samples), scale_);
+  loop_scales_.RecomputeFrom(pose, std::move(samples), Pose::kDof);
 }
 
 template <class Pose>

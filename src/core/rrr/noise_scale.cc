@@ -24,22 +24,10 @@ NoiseScaleEstimate::NoiseScaleEstimate(int residual_dim)
                            residual_dim) {}
 
 void NoiseScaleEstimate::AddLoopSample(double chi2) {
-  loops_.push_back(chi2 / residual_dim_);
-  from_loops_ = RatioOf(loops_);
-}
-
-double NoiseScaleEstimate::FromLoopSamples(
-    const std::vector<double>& chi2) const {
-  if (chi2.empty()) return 1.0;
-  std::vector<double> per_dof;
-  per_dof.reserve(chi2.size());
-  for (const double v : chi2) per_dof.push_back(v / residual_dim_);
-  return RatioOf(per_dof);
-}
-
-double NoiseScaleEstimate::RatioOf(const std::vector<double>& per_dof) const {
-  return std::min(1.0, std::max(Quantile(per_dof, kLoopQuantile), 1e-12) /
-                           chi2_quantile_ratio_);
+  loops_.Add(chi2 / residual_dim_);
+  // The kLoopQuantile-quantile of D²/e over that of χ²_e/e, at most 1.
+  from_loops_ =
+      std::min(1.0, std::max(loops_.Value(), 1e-12) / chi2_quantile_ratio_);
 }
 
 void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,
