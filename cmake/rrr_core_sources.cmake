@@ -43,4 +43,5 @@ set(RRR_CORE_SOURCES
   src/core/rrr/incremental_verifier.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc
+  src/core/session/stamped_waiting_table.cc
 )

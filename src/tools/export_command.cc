@@ -56,6 +56,10 @@ void AddExportCommand(CLI::App& app) {
       std::cout << "; " << session.candidates_waiting
                 << " candidates waiting for a keyframe never recorded left out";
     }
+    if (session.waiting_by_stamp > 0) {
+      std::cout << "; " << session.waiting_by_stamp
+                << " candidates waiting for keyframes by stamp left out";
+    }
     std::cout << "\n";
   });
 }

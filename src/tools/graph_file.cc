@@ -24,6 +24,10 @@ G2oFile LoadGraph(const std::string& path, bool strict) {
                 << " candidates waiting for a keyframe never recorded left "
                    "out\n";
     }
+    if (session.waiting_by_stamp > 0) {
+      std::cerr << "rrr: warning: " << path << ": " << session.waiting_by_stamp
+                << " candidates waiting for keyframes by stamp left out\n";
+    }
     file.graph = std::move(session.graph);
     return file;
   }

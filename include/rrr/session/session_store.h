@@ -23,8 +23,10 @@ class SessionError : public std::runtime_error {
       : std::runtime_error(path + ": " + problem) {}
 };
 
-// The schema version this library writes and reads.
-constexpr int kSessionSchemaVersion = 1;
+// The schema version this library writes. It reads this one and version 1
+// (which had no candidates waiting by stamp), and brings a version 1
+// database it opens to record (SessionStore) up to this one.
+constexpr int kSessionSchemaVersion = 2;
 
 // What Resume found and did.
 struct ResumeSummary {
@@ -34,15 +36,29 @@ struct ResumeSummary {
   // Candidates whose replayed state differs from the recorded one (0 unless
   // the verifier's options changed between the runs).
   int differing_decisions = 0;
+  // Candidates named by stamp that were waiting for keyframes.
+  int waiting_by_stamp = 0;
+};
+
+// A loop candidate named by the stamps (ns) of its poses, waiting for
+// keyframes near them, under the key SessionStore gave it.
+template <class Pose>
+struct StampedWaiting {
+  std::int64_t key = 0;
+  std::int64_t message = 0;  // the caller's number of it (e.g. a header seq)
+  std::int64_t from_ns = 0, to_ns = 0;
+  Pose measurement;
+  typename Constraint<Pose>::Information information;
 };
 
 // The inputs of an OnlineVerifier and its decisions, recorded as they happen
 // in an SQLite database (WAL journal): the keyframes with their odometry
-// edges, the loop candidates in arrival order, and each update with the
-// decisions it changed. What is recorded between two updates is written in
-// one transaction by CommitUpdate, so after a crash the database holds every
-// finished update and nothing of the unfinished one. Not thread-safe: one
-// owner (the verifier's thread) calls every method.
+// edges, the loop candidates in arrival order, each update with the
+// decisions it changed, and the candidates named by stamp that wait for
+// keyframes (held outside the verifier). What is recorded between two updates
+// is written in one transaction by CommitUpdate, so after a crash the database
+// holds every finished update and nothing of the unfinished one. Not
+// thread-safe: one owner (the verifier's thread) calls every method.
 template <class Pose>
 class SessionStore {
  public:
@@ -63,11 +79,14 @@ class SessionStore {
   // one; calls `on_keyframe` with each keyframe's id and record in order
   // (a std::logic_error it throws, such as std::invalid_argument, fails the
   // resume with a SessionError naming the input). Compares the replayed
-  // decisions with the recorded ones.
+  // decisions with the recorded ones. Then calls `on_waiting` (if given)
+  // with each candidate that waited by stamp at the last commit, by key.
   ResumeSummary Resume(
       OnlineVerifier<Pose>* verifier,
       const std::function<void(PoseId, const KeyframeRecord<Pose>&)>&
-          on_keyframe);
+          on_keyframe,
+      const std::function<void(const StampedWaiting<Pose>&)>& on_waiting =
+          nullptr);
 
   // Records the first keyframe (pose `id`), then each further keyframe
   // with the odometry edge from the previous one, and each candidate as
@@ -77,6 +96,15 @@ class SessionStore {
                       const Pose& odometry, const Information& information);
   void RecordCandidate(int number, PoseId a, PoseId b, const Pose& z,
                        const Information& information);
+  // Records that a candidate named by the stamps `from_ns` and `to_ns`
+  // waits for keyframes, numbered `message` by the caller; returns its key
+  // (each larger than any before).
+  std::int64_t RecordStampedWaiting(std::int64_t message, std::int64_t from_ns,
+                                    std::int64_t to_ns, const Pose& z,
+                                    const Information& information);
+  // Records that the candidate under `key` waits no more (it was added as a
+  // candidate, recorded with RecordCandidate, or refused).
+  void RecordStampedResolved(std::int64_t key);
   // Writes what was recorded since the last commit and the update that
   // followed it (`finish`: a Finish()) with its changes, in one transaction.
   // Throws SessionError if the database cannot be written.
@@ -100,6 +128,7 @@ struct SessionContents {
   std::string procedure;
   int updates = 0;
   int candidates_waiting = 0;  // candidates naming a pose never recorded
+  int waiting_by_stamp = 0;    // candidates named by stamp, waiting
 };
 
 // Reads the session database at `path` (read only). Throws SessionError

@@ -1,6 +1,5 @@
 #include "rrr/session/session_store.h"
 
-#include <Eigen/Cholesky>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -8,7 +7,9 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "session_codec.h"
 #include "sqlite_db.h"
+#include "stamped_waiting_table.h"
 
 namespace rrr {
 namespace {
@@ -41,50 +42,6 @@ constexpr const char* kInsertInput =
     "covariance, candidate, from_id, to_id, measurement, information) "
     "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
 
-std::vector<double> Encode(const Pose2& p) { return {p.x(), p.y(), p.theta()}; }
-std::vector<double> Encode(const Pose3& p) {
-  const auto& q = p.quaternion();
-  const auto& t = p.translation();
-  return {q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z()};
-}
-template <class Derived>
-std::vector<double> Encode(const Eigen::MatrixBase<Derived>& m) {
-  const typename Derived::PlainObject plain = m;
-  return std::vector<double>(plain.data(), plain.data() + plain.size());
-}
-
-constexpr size_t EncodedSize(const Pose2*) { return 3; }
-constexpr size_t EncodedSize(const Pose3*) { return 7; }
-constexpr int DimensionOf(const Pose2*) { return 2; }
-constexpr int DimensionOf(const Pose3*) { return 3; }
-
-// Reads doubles from `column`, all finite, or fails naming `what` and `seq`.
-std::vector<double> FiniteDoubles(const SqliteDb& db,
-                                  const SqliteStatement& row, int column,
-                                  size_t count, const std::string& what,
-                                  std::int64_t seq) {
-  std::vector<double> values = row.Doubles(column, count);
-  for (const double v : values) {
-    if (!std::isfinite(v)) {
-      db.Fail("input " + std::to_string(seq) + ": " + what +
-              " holds a value that is not a finite number");
-    }
-  }
-  return values;
-}
-
-Pose2 DecodePose(const std::vector<double>& v, const Pose2*,
-                 const std::function<void(const std::string&)>&) {
-  return Pose2(v[0], v[1], v[2]);
-}
-Pose3 DecodePose(const std::vector<double>& v, const Pose3*,
-                 const std::function<void(const std::string&)>& fail) {
-  Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
-  if (!(q.norm() > 1e-9)) fail("a quaternion is zero");
-  if (std::abs(q.norm() - 1.0) > 1e-6) q.normalize();
-  return Pose3(q, Eigen::Vector3d(v[4], v[5], v[6]));
-}
-
 // One row of the inputs table, decoded and checked.
 template <class Pose>
 struct InputRow {
@@ -105,7 +62,6 @@ struct InputRow {
 template <class Pose>
 void ForEachInput(SqliteDb* db,
                   const std::function<void(const InputRow<Pose>&)>& visit) {
-  constexpr int kDof = Pose::kDof;
   const size_t pose_size = EncodedSize(static_cast<const Pose*>(nullptr));
   SqliteStatement query(
       db,
@@ -136,27 +92,16 @@ void ForEachInput(SqliteDb* db,
       row.pose_id = query.Int(2);
       row.keyframe.stamp_ns = query.Int(3);
       row.keyframe.odometry_pose =
-          DecodePose(FiniteDoubles(*db, query, 4, pose_size, "a pose", row.seq),
+          DecodePose(FiniteDoubles(*db, query, 4, pose_size, "a pose", at),
                      static_cast<const Pose*>(nullptr), fail);
       const std::vector<double> covariance =
-          FiniteDoubles(*db, query, 5, 36, "a covariance", row.seq);
+          FiniteDoubles(*db, query, 5, 36, "a covariance", at);
       row.keyframe.covariance =
           Eigen::Map<const OdometryCovariance>(covariance.data());
     }
     if (row.kind != kFirstKeyframe) {
-      row.measurement = DecodePose(
-          FiniteDoubles(*db, query, 9, pose_size, "a measurement", row.seq),
-          static_cast<const Pose*>(nullptr), fail);
-      const std::vector<double> information = FiniteDoubles(
-          *db, query, 10, kDof * kDof, "an information matrix", row.seq);
-      row.information = Eigen::Map<const typename InputRow<Pose>::Information>(
-          information.data());
-      const bool symmetric =
-          (row.information - row.information.transpose()).norm() <=
-          1e-9 * row.information.norm();
-      if (!symmetric || row.information.llt().info() != Eigen::Success) {
-        fail("an information matrix is not symmetric positive definite");
-      }
+      DecodeMeasurement(*db, query, 9, 10, at, &row.measurement,
+                        &row.information);
     }
     visit(row);
   }
@@ -200,19 +145,25 @@ std::string MetaValue(SqliteDb* db, const std::string& key) {
   return query.Text(0);
 }
 
-// Checks that `db` is a session database of this schema version; returns
-// its dimension (2 or 3).
-int CheckSchema(SqliteDb* db) {
+// Checks that `db` is a session database of a schema version this library
+// reads (1 or kSessionSchemaVersion); returns its dimension (2 or 3) and
+// sets `*version`.
+int CheckSchema(SqliteDb* db, int* version) {
   SqliteStatement tables(
       db,
       "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND "
-      "name IN ('meta', 'inputs', 'updates', 'decisions')");
+      "name IN ('meta', 'inputs', 'updates', 'decisions', "
+      "'waiting_by_stamp')");
   tables.Step();
-  if (tables.Int(0) != 4) db->Fail("it is not a session database of rrr");
-  const std::string version = MetaValue(db, "schema_version");
-  if (version != std::to_string(kSessionSchemaVersion)) {
-    db->Fail("schema version " + version + ", but this rrr reads version " +
+  const std::string text = MetaValue(db, "schema_version");
+  if (text == "1" || text == std::to_string(kSessionSchemaVersion)) {
+    *version = std::stoi(text);
+  } else {
+    db->Fail("schema version " + text + ", but this rrr reads versions 1 to " +
              std::to_string(kSessionSchemaVersion));
+  }
+  if (tables.Int(0) != (*version == 1 ? 4 : 5)) {
+    db->Fail("it is not a session database of rrr");
   }
   const std::string dimension = MetaValue(db, "dimension");
   if (dimension != "2" && dimension != "3") {
@@ -231,7 +182,8 @@ class SessionStore<Pose>::Impl {
     SqliteStatement count(&db, "SELECT count(*) FROM sqlite_master");
     count.Step();
     if (count.Int(0) == 0) {
-      db.Execute(std::string("BEGIN;") + kSchema + "COMMIT;");
+      db.Execute(std::string("BEGIN;") + kSchema +
+                 StampedWaitingTable<Pose>::kSchema + "COMMIT;");
       SqliteStatement meta(&db, "INSERT INTO meta(key, value) VALUES (?, ?)");
       const std::pair<std::string, std::string> rows[] = {
           {"schema_version", std::to_string(kSessionSchemaVersion)},
@@ -245,7 +197,14 @@ class SessionStore<Pose>::Impl {
         meta.Reset();
       }
     }
-    const int dimension = CheckSchema(&db);
+    int version = 0;
+    const int dimension = CheckSchema(&db, &version);
+    if (version == 1) {  // brought up to this version: the table it lacked
+      db.Execute(std::string("BEGIN;") + StampedWaitingTable<Pose>::kSchema +
+                 "UPDATE meta SET value = '" +
+                 std::to_string(kSessionSchemaVersion) +
+                 "' WHERE key = 'schema_version'; COMMIT;");
+    }
     if (dimension != DimensionOf(static_cast<const Pose*>(nullptr))) {
       db.Fail("it holds a " + std::to_string(dimension) +
               "D session, but this verifier is " +
@@ -271,12 +230,14 @@ class SessionStore<Pose>::Impl {
         &db,
         "INSERT INTO decisions(update_number, candidate, state) VALUES (?, ?, "
         "?)");
+    waiting = std::make_unique<StampedWaitingTable<Pose>>(&db);
   }
 
   SqliteDb db;
   // Prepared once, used by every CommitUpdate.
   std::unique_ptr<SqliteStatement> insert_input, insert_update, insert_decision;
   std::int64_t next_seq = 1, next_update = 1;
+  std::unique_ptr<StampedWaitingTable<Pose>> waiting;
   // Rows recorded since the last commit, as bound values.
   struct Pending {
     InputKind kind;
@@ -304,7 +265,8 @@ const std::string& SessionStore<Pose>::path() const {
 
 template <class Pose>
 int SessionStore<Pose>::num_uncommitted() const {
-  return static_cast<int>(impl_->pending.size());
+  return static_cast<int>(impl_->pending.size()) +
+         impl_->waiting->num_pending();
 }
 
 template <class Pose>
@@ -343,6 +305,18 @@ void SessionStore<Pose>::RecordCandidate(int number, PoseId a, PoseId b,
   row.measurement = Encode(z);
   row.information = Encode(information);
   impl_->pending.push_back(std::move(row));
+}
+
+template <class Pose>
+std::int64_t SessionStore<Pose>::RecordStampedWaiting(
+    std::int64_t message, std::int64_t from_ns, std::int64_t to_ns,
+    const Pose& z, const Information& information) {
+  return impl_->waiting->Hold(message, from_ns, to_ns, z, information);
+}
+
+template <class Pose>
+void SessionStore<Pose>::RecordStampedResolved(std::int64_t key) {
+  impl_->waiting->Release(key);
 }
 
 template <class Pose>
@@ -392,16 +366,19 @@ void SessionStore<Pose>::CommitUpdate(
       decision.Step();
       decision.Reset();
     }
+    impl_->waiting->Write();
     db.Execute("COMMIT");
     impl_->next_seq = seq;
     ++impl_->next_update;
     impl_->pending.clear();
+    impl_->waiting->Committed();
   } catch (...) {
     for (auto* statement :
          {impl_->insert_input.get(), impl_->insert_update.get(),
           impl_->insert_decision.get()}) {
       statement->Reset();
     }
+    impl_->waiting->Failed();
     sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
   }
@@ -410,8 +387,8 @@ void SessionStore<Pose>::CommitUpdate(
 template <class Pose>
 ResumeSummary SessionStore<Pose>::Resume(
     OnlineVerifier<Pose>* verifier,
-    const std::function<void(PoseId, const KeyframeRecord<Pose>&)>&
-        on_keyframe) {
+    const std::function<void(PoseId, const KeyframeRecord<Pose>&)>& on_keyframe,
+    const std::function<void(const StampedWaiting<Pose>&)>& on_waiting) {
   SqliteDb& db = impl_->db;
   const std::vector<UpdateRow> updates = ReadUpdates(&db);
   ResumeSummary summary;
@@ -472,15 +449,23 @@ ResumeSummary SessionStore<Pose>::Resume(
       ++summary.differing_decisions;
     }
   }
+  for (const StampedWaiting<Pose>& held : impl_->waiting->Read()) {
+    ++summary.waiting_by_stamp;
+    if (on_waiting) on_waiting(held);
+  }
   return summary;
 }
 
 namespace {
 
 template <class Pose>
-SessionContents ReadSessionOf(SqliteDb* db) {
+SessionContents ReadSessionOf(SqliteDb* db, int version) {
   SessionContents contents;
   contents.procedure = MetaValue(db, "procedure");
+  if (version > 1) {
+    contents.waiting_by_stamp =
+        static_cast<int>(StampedWaitingTable<Pose>(db).Read().size());
+  }
   contents.updates = static_cast<int>(ReadUpdates(db).size());
   const std::map<int, LoopState> states = ReadFinalStates(db);
   PoseGraph<Pose> graph;
@@ -531,8 +516,9 @@ SessionContents ReadSessionOf(SqliteDb* db) {
 SessionContents ReadSession(const std::string& path) {
   if (!std::ifstream(path)) throw SessionError(path, "cannot be opened");
   SqliteDb db(path, false);
-  return CheckSchema(&db) == 2 ? ReadSessionOf<Pose2>(&db)
-                               : ReadSessionOf<Pose3>(&db);
+  int version = 0;
+  return CheckSchema(&db, &version) == 2 ? ReadSessionOf<Pose2>(&db, version)
+                                         : ReadSessionOf<Pose3>(&db, version);
 }
 
 bool LooksLikeSessionDatabase(const std::string& path) {

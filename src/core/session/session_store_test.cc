@@ -266,5 +266,93 @@ TEST_F(SessionStoreTest, NamesTheInputAKeyframeCallbackRefuses) {
       << error;
 }
 
+TEST_F(SessionStoreTest, KeepsTheCandidatesWaitingByStampAtEachCommit) {
+  Pose2::Jacobian information = Pose2::Jacobian::Identity() * 4.0;
+  information(0, 1) = information(1, 0) = 1.0;
+  std::int64_t first, second, third;
+  {
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, 50, 10);
+    first =
+        store.RecordStampedWaiting(7, 70, 80, Pose2(1, 2, 0.3), information);
+    second =
+        store.RecordStampedWaiting(9, 90, 95, Pose2(4, 5, 0.6), information);
+    store.CommitUpdate(false, {});
+    store.RecordStampedResolved(first);
+    store.CommitUpdate(false, {});
+    // Held and released again before a commit: never written.
+    store.RecordStampedResolved(
+        store.RecordStampedWaiting(0, 1, 2, Pose2(), information));
+    store.CommitUpdate(false, {});
+    // Not committed, as if the node were killed: lost, as the update is.
+    third = store.RecordStampedWaiting(10, 100, 110, Pose2(), information);
+    store.RecordStampedResolved(second);
+    EXPECT_EQ(store.num_uncommitted(), 2);
+  }
+  EXPECT_LT(first, second);
+  EXPECT_LT(second, third);
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  std::vector<StampedWaiting<Pose2>> held;
+  const ResumeSummary summary =
+      store.Resume(&resumed, nullptr,
+                   [&](const StampedWaiting<Pose2>& w) { held.push_back(w); });
+  EXPECT_EQ(summary.waiting_by_stamp, 1);
+  ASSERT_EQ(held.size(), 1u);
+  EXPECT_EQ(held[0].key, second);
+  EXPECT_EQ(held[0].message, 9);
+  EXPECT_EQ(held[0].from_ns, 90);
+  EXPECT_EQ(held[0].to_ns, 95);
+  EXPECT_EQ(held[0].measurement.Log(), Pose2(4, 5, 0.6).Log());
+  EXPECT_EQ(held[0].information, information);
+  // Keys go on above every key recorded before.
+  EXPECT_GT(store.RecordStampedWaiting(0, 1, 2, Pose2(), information), second);
+  EXPECT_EQ(ReadSession(path_).waiting_by_stamp, 1);
+}
+
+TEST_F(SessionStoreTest, BringsAVersionOneDatabaseUpToDate) {
+  MapVerifier<Pose2> verifier{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, 100, 10);
+  }
+  // As version 1 wrote it: no table of candidates waiting by stamp.
+  Tamper(path_,
+         "DROP TABLE waiting_by_stamp; UPDATE meta SET value = '1' WHERE key "
+         "= 'schema_version'");
+  EXPECT_EQ(std::get<PoseGraph2>(ReadSession(path_).graph).num_poses(), 100);
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    const ResumeSummary summary = store.Resume(&resumed, nullptr);
+    EXPECT_EQ(summary.keyframes, 100);
+    EXPECT_EQ(summary.waiting_by_stamp, 0);
+    store.RecordStampedWaiting(0, 1, 2, Pose2(), Pose2::Jacobian::Identity());
+    store.CommitUpdate(false, {});
+  }
+  EXPECT_EQ(ReadSession(path_).waiting_by_stamp, 1);
+  // Missing the table, a database of this version is not a session's.
+  Tamper(path_, "DROP TABLE waiting_by_stamp");
+  EXPECT_NE(ErrorOf([&] {
+              ReadSession(path_);
+            }).find("it is not a session database of rrr"),
+            std::string::npos);
+}
+
+TEST_F(SessionStoreTest, RefusesAWaitingCandidateThatIsNotOne) {
+  {
+    SessionStore<Pose2> store(path_, "map");
+    store.RecordStampedWaiting(0, 1, 2, Pose2(), Pose2::Jacobian::Identity());
+    store.CommitUpdate(false, {});
+  }
+  Tamper(path_, "UPDATE waiting_by_stamp SET information = x'00'");
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  const std::string error = ErrorOf([&] { store.Resume(&resumed, nullptr); });
+  EXPECT_EQ(error.rfind(path_, 0), 0u) << error;
+  EXPECT_NE(error.find("holds 1 bytes"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace rrr
