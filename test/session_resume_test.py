@@ -30,6 +30,23 @@ def status(env):
     return service(env, "/rrr_node/get_status", timeout=60)
 
 
+def start_master(tmp_path):
+    """A master on a free port: (the build's environment for it, the log
+    file tmp_path/ros.log that it and the nodes write, its process)."""
+    port = free_port()
+    env = ros_env(BUILD, port, tmp_path)
+    log = open(tmp_path / "ros.log", "w")
+    master = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log,
+                              stderr=subprocess.STDOUT, start_new_session=True)
+    return env, log, master
+
+
+def play(env, log, bag, *options):
+    """Starts rosbag play of `bag` with `options`."""
+    return subprocess.Popen([*ROSBAG_PLAY, *options, bag], env=env, stdout=log,
+                            stderr=subprocess.STDOUT, start_new_session=True)
+
+
 def start_node(env, database, window, log):
     return subprocess.Popen(
         ["roslaunch", "--wait", "rrr_slam", "rrr.launch", f"database:={database}",
@@ -56,20 +73,14 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
                    capture_output=True)
     poses = sum(1 for line in graph.read_text().splitlines() if line.startswith("VERTEX"))
 
-    port = free_port()
-    env = ros_env(BUILD, port, tmp_path)
+    env, log, master = start_master(tmp_path)
     database = tmp_path / "session.db"
-    log = open(tmp_path / "ros.log", "w")
-    master = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log,
-                              stderr=subprocess.STDOUT, start_new_session=True)
     launch = player = None
     try:
         launch = start_node(env, database, window, log)
         pid = node_pid(launch)
         wait_for(lambda: status(env), 60, "~get_status")
-        player = subprocess.Popen([*ROSBAG_PLAY, bag],
-                                  env=env, stdout=log,
-                                  stderr=subprocess.STDOUT, start_new_session=True)
+        player = play(env, log, bag)
         # Kill it in the middle of the replay, then stop the bag.
         wait_for(lambda: int(status(env).get("keyframes", 0)) >= poses // 2, 120,
                  "half of the keyframes")
@@ -86,9 +97,7 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         assert resumed["database"] == str(database)
         # Play on from the last recorded keyframe (pose k is at 1 + k / RATE).
         start = (keyframes - 1) / RATE - 0.5 / RATE
-        player = subprocess.Popen([*ROSBAG_PLAY, "-s", f"{start:.6f}", bag],
-                                  env=env, stdout=log, stderr=subprocess.STDOUT,
-                                  start_new_session=True)
+        player = play(env, log, bag, "-s", f"{start:.6f}")
         assert player.wait(timeout=300) == 0, (tmp_path / "ros.log").read_text()[-3000:]
         final = wait_for(lambda: (lambda s: s if s.get("keyframes") == str(poses)
                                   and s.get("queue_length") == "0" else None)(status(env)),
@@ -115,3 +124,75 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
                     "-r", tmp_path / "again.json"], check=True, capture_output=True)
     again = {tuple(p) for p in json.loads((tmp_path / "again.json").read_text())["accepted"]}
     assert again == expected
+
+
+def test_a_candidate_waiting_by_stamp_survives_kill(tmp_path):
+    """A candidate named by stamp waits for a keyframe that does not exist
+    yet when the node is killed; the restarted node holds it again, and it
+    becomes a candidate when the keyframe comes."""
+    graph = tmp_path / "world.g2o"
+    subprocess.run([RRR, "simulate", "--poses", "600", "--false-loops", "10", "--seed", "3",
+                    "-o", graph, "-t", tmp_path / "false.txt",
+                    "--ground-truth", tmp_path / "truth.g2o"], check=True, capture_output=True)
+    bag = tmp_path / "world.bag"
+    subprocess.run([RRR, "to-bag", graph, "--rate", str(RATE), "-o", bag], check=True,
+                   capture_output=True)
+    pairs = loop_pairs(graph)
+    later, earlier = 450, 5  # a pair the world has no loop for
+    while (later, earlier) in pairs:
+        later += 1
+    stamp = lambda pose: 1 + pose / RATE  # noqa: E731 (as rrr to-bag writes it)
+    as_time = lambda t: f"{{secs: {int(t)}, nsecs: {round((t - int(t)) * 1e9)}}}"  # noqa: E731
+    loop = ("{header: {frame_id: base_link}, reference: 1, "
+            f"from_stamp: {as_time(stamp(later))}, to_stamp: {as_time(stamp(earlier))}, "
+            "relative_pose: {pose: {position: {x: 1.0, y: 0.5, z: 0.0}, "
+            "orientation: {x: 0.0, y: 0.0, z: 0.0, w: 1.0}}, "
+            "covariance: [0.01, 0, 0, 0, 0, 0, 0, 0.01, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, "
+            "0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0.001]}, confidence: -1}")
+
+    env, log, master = start_master(tmp_path)
+    database = tmp_path / "session.db"
+    launch = player = None
+    try:
+        launch = start_node(env, database, 10, log)
+        pid = node_pid(launch)
+        wait_for(lambda: status(env), 60, "~get_status")
+        # The first 300 poses, then the candidate naming pose `later`.
+        player = play(env, log, bag, "-u", f"{300 / RATE:.3f}")
+        assert player.wait(timeout=120) == 0, (tmp_path / "ros.log").read_text()[-3000:]
+        wait_for(lambda: int(status(env).get("keyframes", 0)) >= 250, 60, "the first keyframes")
+        before = int(status(env)["updates"])
+        subprocess.run(["rostopic", "pub", "-1", "/loop_closures", "rrr_slam/LoopClosure", loop],
+                       env=env, check=True, capture_output=True, timeout=60)
+        # Recorded: an update after it took it in has committed.
+        wait_for(lambda: (lambda s: s.get("waiting_by_stamp") == "1" and
+                          int(s.get("updates", 0)) > before and
+                          s.get("queue_length") == "0")(status(env)), 60,
+                 "the candidate to wait by stamp")
+        os.kill(pid, signal.SIGKILL)
+        launch.wait(timeout=30)
+
+        launch = start_node(env, database, 10, log)
+        node_pid(launch)
+        resumed = wait_for(lambda: status(env), 120, "the restarted node")
+        assert resumed["resumed_waiting_by_stamp"] == "1", resumed
+        assert resumed["waiting_by_stamp"] == "1", resumed
+        keyframes = int(resumed["resumed_keyframes"])
+        start = (keyframes - 1) / RATE - 0.5 / RATE
+        player = play(env, log, bag, "-s", f"{start:.6f}")
+        assert player.wait(timeout=300) == 0, (tmp_path / "ros.log").read_text()[-3000:]
+        final = wait_for(lambda: (lambda s: s if s.get("keyframes") == "600"
+                                  and s.get("queue_length") == "0" else None)(status(env)),
+                         120, "every keyframe")
+        assert final["waiting_by_stamp"] == "0", final
+        assert int(final["skipped_unknown_poses"]) == 0, final
+        assert int(final["invalid_messages"]) == 0, final
+    finally:
+        for process in (player, launch, master):
+            stop(process)
+        log.close()
+
+    everything = tmp_path / "everything.g2o"
+    subprocess.run([RRR, "export", database, "--with-rejected", "-o", everything], check=True,
+                   capture_output=True)
+    assert loop_pairs(everything) == pairs | {(later, earlier)}

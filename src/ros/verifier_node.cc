@@ -28,18 +28,6 @@ constexpr int kQueueSize =
     10000;  // ROS subscriber queues (ours: max_queue_length)
 constexpr double kPublishPeriod = 0.2;  // s between path/marker refreshes
 
-// How warnings name the inputs: "<kind> message <seq>".
-constexpr const char* kOdometry = "odometry";
-constexpr const char* kLoopClosure = "loop closure";
-
-// Why a message in `frame` is not in the expected frame `name` (the `role`
-// frame), or "" if it is; an empty frame is taken as the expected one.
-std::string WrongFrame(const std::string& frame, const std::string& name,
-                       const std::string& role) {
-  if (frame.empty() || frame == name) return "";
-  return "frame '" + frame + "' is not the " + role + " frame '" + name + "'";
-}
-
 // The information of one metre or radian of motion (odometry/information).
 template <class Pose>
 typename rrr::Constraint<Pose>::Information PerUnitInformation(
@@ -125,6 +113,17 @@ void VerifierNode<Pose>::Resume() {
         verifier_.get(),
         [this](rrr::PoseId, const rrr::KeyframeRecord<Pose>& keyframe) {
           keyframes_.Append(keyframe);
+        },
+        [this](const rrr::StampedWaiting<Pose>& waiting) {
+          const auto seq = static_cast<uint32_t>(waiting.message);
+          if (!stamped_waiting_.Hold(waiting.from_ns, waiting.to_ns,
+                                     {seq, waiting.key, waiting.measurement,
+                                      waiting.information})) {
+            store_->RecordStampedResolved(waiting.key);
+            Skip(seq, rrr::CandidateDefect::kWaitingFull,
+                 "the session holds more candidates waiting by stamp than "
+                 "max_waiting");
+          }
         });
     if (summary.differing_decisions > 0) {
       ROS_WARN(
@@ -135,6 +134,8 @@ void VerifierNode<Pose>::Resume() {
     status_.database = options_.database;
     status_.resumed_keyframes = summary.keyframes;
     status_.resumed_candidates = summary.candidates;
+    status_.resumed_waiting_by_stamp = summary.waiting_by_stamp;
+    status_.waiting_by_stamp = static_cast<uint32_t>(stamped_waiting_.size());
     status_.updates = summary.updates;
     if (summary.keyframes > 0) {
       resumed_ = true;
@@ -143,10 +144,10 @@ void VerifierNode<Pose>::Resume() {
       last_accepted_ = verifier_->AcceptedLoops();
     }
     ROS_INFO(
-        "rrr_node: session %s: resumed %d keyframes, %d candidates, %d "
-        "updates",
+        "rrr_node: session %s: resumed %d keyframes, %d candidates (and %d "
+        "waiting by stamp), %d updates",
         options_.database.c_str(), summary.keyframes, summary.candidates,
-        summary.updates);
+        summary.waiting_by_stamp, summary.updates);
   } catch (const rrr::SessionError& e) {
     throw std::invalid_argument(std::string("database: ") + e.what());
   }
@@ -322,149 +323,6 @@ void VerifierNode<Pose>::WorkerLoop() {
     }
     if (pending_update) UpdateAndPublish(false);
   }
-}
-
-template <class Pose>
-void VerifierNode<Pose>::Invalid(const char* kind, uint32_t seq,
-                                 const std::string& why) {
-  uint64_t count;
-  {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    count = ++status_.invalid_messages;
-  }
-  ROS_WARN_THROTTLE(
-      5.0, "rrr_node: ignored %s message %u: %s (%lu invalid messages so far)",
-      kind, seq, why.c_str(), static_cast<unsigned long>(count));
-}
-
-template <class Pose>
-void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
-  std::string why =
-      WrongFrame(msg->header.frame_id, options_.odom_frame, "odometry");
-  if (!why.empty()) return Invalid(kOdometry, msg->header.seq, why);
-  Pose pose;
-  if (!FromRos(msg->pose.pose, &pose, &why))
-    return Invalid(kOdometry, msg->header.seq, why);
-  const rrr::OdometryCovariance covariance = FromRos(msg->pose.covariance);
-  if (resumed_ && msg->header.stamp <= resumed_until_) {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    ++status_.inputs_already_recorded;
-    return;
-  }
-  const rrr::KeyframeRecord<Pose> reading{
-      static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose, covariance};
-  const auto judged = keyframes_.Judge(reading);
-  if (!judged.problem.empty()) {
-    return Invalid(kOdometry, msg->header.seq, judged.problem);
-  }
-  if (!judged.keyframe) return;
-  if (keyframes_.empty()) {
-    verifier_->AddFirstPose(0, pose);
-    if (store_) store_->RecordFirstKeyframe(0, reading);
-  } else {
-    using Source = typename rrr::OdometryNoiseModel<Pose>::Source;
-    Source source;
-    const rrr::KeyframeRecord<Pose> newest = keyframes_.newest();
-    const Information information = odometry_noise_.EdgeInformation(
-        newest.odometry_pose, newest.covariance, pose, covariance,
-        options_.use_odometry_covariance, &source);
-    {
-      std::lock_guard<std::mutex> lock(state_mutex_);
-      ++(source == Source::kCovarianceChange
-             ? status_.odometry_information_from_covariance
-             : status_.odometry_information_from_motion);
-    }
-    const rrr::PoseId id = verifier_->AddOdometry(judged.motion, information);
-    if (store_) {
-      store_->RecordKeyframe(id, reading, judged.motion, information);
-    }
-  }
-  keyframes_.Append(reading);
-  new_keyframes_ = true;
-  rrr_slam::Keyframe keyframe;
-  keyframe.header.stamp = msg->header.stamp;
-  keyframe.header.frame_id = options_.odom_frame;
-  keyframe.id = verifier_->graph().ids().back();
-  keyframe.pose = msg->pose.pose;
-  keyframe_pub_.publish(keyframe);
-  ResolveStampedLoops();
-}
-
-template <class Pose>
-void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
-  const std::string why =
-      WrongFrame(msg->header.frame_id, options_.base_frame, "robot");
-  if (!why.empty()) return Invalid(kLoopClosure, msg->header.seq, why);
-  if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
-    AddLoopCandidate(*msg, msg->from_id, msg->to_id);
-  } else if (msg->reference == rrr_slam::LoopClosure::BY_STAMP) {
-    if (!stamped_waiting_.Hold(msg->from_stamp.toNSec(), msg->to_stamp.toNSec(),
-                               *msg)) {
-      return Skip(msg->header.seq, rrr::CandidateDefect::kWaitingFull,
-                  std::to_string(stamped_waiting_.size()) +
-                      " candidates wait for keyframes by stamp already");
-    }
-    ResolveStampedLoops();
-  } else {
-    Invalid(kLoopClosure, msg->header.seq,
-            "reference " + std::to_string(msg->reference) +
-                " is neither BY_ID nor BY_STAMP");
-  }
-}
-
-template <class Pose>
-void VerifierNode<Pose>::ResolveStampedLoops() {
-  stamped_waiting_.Resolve(
-      keyframes_.stamps(),
-      [this](int from, int to, const rrr_slam::LoopClosure& msg) {
-        AddLoopCandidate(msg, verifier_->graph().ids()[from],
-                         verifier_->graph().ids()[to]);
-      },
-      [this](const char* end, const rrr_slam::LoopClosure& msg) {
-        Skip(msg.header.seq, rrr::CandidateDefect::kUnknownPose,
-             "no keyframe within " + std::to_string(options_.stamp_tolerance) +
-                 " s of its " + end + " stamp");
-      });
-}
-
-template <class Pose>
-void VerifierNode<Pose>::AddLoopCandidate(const rrr_slam::LoopClosure& msg,
-                                          rrr::PoseId from, rrr::PoseId to) {
-  Pose z;
-  Information information;
-  std::string why;
-  if (!FromRos(msg.relative_pose.pose, &z, &why) ||
-      !InformationFromCovariance<Pose>(msg.relative_pose.covariance,
-                                       &information, &why)) {
-    return Invalid(kLoopClosure, msg.header.seq, why);
-  }
-  if (from < 0 || to < 0) {
-    return Skip(msg.header.seq, rrr::CandidateDefect::kUnknownPose,
-                "keyframe ids start at 0");
-  }
-  try {
-    const int number = verifier_->AddLoop(from, to, z, information);
-    if (store_) store_->RecordCandidate(number, from, to, z, information);
-  } catch (const rrr::DegenerateCandidate& e) {
-    Skip(msg.header.seq, e.defect(), e.what());
-  }
-}
-
-template <class Pose>
-void VerifierNode<Pose>::Skip(uint32_t seq, rrr::CandidateDefect defect,
-                              const std::string& why) {
-  uint64_t count;
-  {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    CountCandidateDefect(defect, &status_);
-    count = CandidateDefects(status_);
-  }
-  ROS_WARN_THROTTLE(
-      5.0,
-      "rrr_node: skipped loop closure message %u (%s): %s (%lu skipped "
-      "candidates so far)",
-      seq, rrr::ToString(defect), why.c_str(),
-      static_cast<unsigned long>(count));
 }
 
 template <class Pose>

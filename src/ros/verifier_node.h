@@ -66,12 +66,13 @@ class VerifierNode {
   void OnTfTimer(const ros::TimerEvent& event);
   void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
-  // Worker thread.
+  // Worker thread (taking in the inputs: verifier_node_inputs.cc).
   void WorkerLoop();
   void Process(const nav_msgs::Odometry::ConstPtr& msg);
   void Process(const rrr_slam::LoopClosure::ConstPtr& msg);
-  void AddLoopCandidate(const rrr_slam::LoopClosure& msg, rrr::PoseId from,
-                        rrr::PoseId to);
+  // Adds the candidate of message `seq` between keyframes `from` and `to`.
+  void AddLoopCandidate(uint32_t seq, rrr::PoseId from, rrr::PoseId to,
+                        const Pose& z, const Information& information);
   void ResolveStampedLoops();
   // Runs the decision procedure (or, with `finish`, judges everything) and
   // publishes what changed.
@@ -83,6 +84,9 @@ class VerifierNode {
   void PublishAcceptedGraph();
   // Rebuilds the verifier and the keyframes from the session database.
   void Resume();
+  // How warnings name the inputs: "<kind> message <seq>".
+  static constexpr const char* kOdometry = "odometry";
+  static constexpr const char* kLoopClosure = "loop closure";
   // Counts an invalid message and warns (throttled), naming it by `kind`
   // and sequence number; the name is formatted only when the warning is.
   void Invalid(const char* kind, uint32_t seq, const std::string& why);
@@ -109,7 +113,15 @@ class VerifierNode {
   const rrr::OdometryNoiseModel<Pose> odometry_noise_;
   rrr::KeyframeTrack<Pose> keyframes_;  // and their corrected poses
   std::vector<int> last_accepted_;
-  rrr::StampedCandidates<rrr_slam::LoopClosure> stamped_waiting_;
+  // A candidate named by stamp, converted, waiting for keyframes; `key`:
+  // its key in the session database, if there is one.
+  struct StampedLoop {
+    uint32_t seq;
+    std::int64_t key;
+    Pose z;
+    Information information;
+  };
+  rrr::StampedCandidates<StampedLoop> stamped_waiting_;
   bool new_keyframes_ = false;
   uint64_t taken_since_update_ = 0;  // inputs taken in since the last update
   int published_candidates_ = 0;     // candidates in the last ~decisions

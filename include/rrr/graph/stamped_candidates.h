@@ -19,11 +19,12 @@ class StampedCandidates {
   explicit StampedCandidates(int capacity) : capacity_(capacity) {}
 
   int size() const { return static_cast<int>(held_.size()); }
+  bool full() const { return size() >= capacity_; }
 
   // Holds `candidate` between the keyframes at `from_ns` and `to_ns`.
   // Returns false, holding nothing, if `capacity` candidates wait already.
   bool Hold(std::int64_t from_ns, std::int64_t to_ns, T candidate) {
-    if (size() >= capacity_) return false;
+    if (full()) return false;
     held_.push_back({from_ns, to_ns, std::move(candidate)});
     return true;
   }
