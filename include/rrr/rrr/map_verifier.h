@@ -93,9 +93,9 @@ struct MapVerifierStats {
 //     group still fits (dropping the worst link of a compromise, as step 1
 //     does, lets two links that agree outvote the one the map holds). The
 //     group is accepted, else the cluster is set aside. Then, after a
-//     reversal and after each whole-map minimization,
-//     (see RrrOptions::optimize_every), every set-aside cluster
-//     whose error at the map's estimate is under its gate is judged again,
+//     reversal and after each whole-map minimization (see
+//     RrrOptions::optimize_every), every set-aside cluster whose error at
+//     the map's estimate is under its gate is judged again,
 //     every accepted cluster whose error is over it is judged again, and
 //     every cluster rejected in step 1 under a scale at most half of today's
 //     goes through step 1 again, and so does every cluster accepted under a
