@@ -240,27 +240,18 @@ MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius) {
 template <class Pose>
 MapTrial MaintainedMap<Pose>::Retry(const std::vector<int>& loops, int radius,
                                     double significant) {
-  last_trial_.reset();
   const std::vector<int> ends = PosesTouched(graph_, loops);
-  std::vector<std::vector<int>> lists;  // the ends' loops, in their order
-  lists.reserve(ends.size());
-  for (const int p : ends) lists.push_back(junctions_.at(p).loops);
+  for (const int p : ends) Insert(p, true);  // junctions while out of the map
+  const Junctions before = junctions_;
   const int num_loops = num_loops_;
-  std::vector<Pose> before;  // every junction's estimate, in order
-  before.reserve(junctions_.size());
-  for (const auto& [pose, j] : junctions_) before.push_back(j.x);
   Detach(loops);
   Relax(loops, radius, significant);
-  const std::vector<int> region = Region(ends, radius);
-  Minimize(region, {});
-  MapTrial trial = Minimize(region, loops);
-  auto x = before.begin();
-  for (auto& [pose, j] : junctions_) j.x = *x++;
-  for (size_t k = 0; k < ends.size(); ++k) {
-    junctions_.at(ends[k]).loops = std::move(lists[k]);
-  }
+  MapTrial trial = Try(loops, radius);
+  junctions_ = before;
   for (const int k : loops) in_map_[k] = true;
   num_loops_ = num_loops;
+  for (const int p : ends) Release(p);
+  last_trial_.reset();
   return trial;
 }
 
