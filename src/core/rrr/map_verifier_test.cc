@@ -21,6 +21,18 @@ namespace {
 
 using Replay = testing::Replay<MapVerifier<Pose2>, Pose2>;
 
+// The grid world with `poses` poses and `false_loops` false loops in groups
+// of `group`, drawn with `seed`.
+SimulatedWorld World(int poses, int false_loops, int group,
+                     std::uint64_t seed = 1) {
+  GridWorldOptions world;
+  world.poses = poses;
+  world.false_loops = false_loops;
+  world.group = group;
+  world.seed = seed;
+  return SimulateGridWorld(world);
+}
+
 // The end ids of the world's false loops.
 testing::Pairs FalsePairs(const SimulatedWorld& w) {
   testing::Pairs out;
@@ -33,11 +45,7 @@ testing::Pairs FalsePairs(const SimulatedWorld& w) {
 
 TEST(MapVerifier, AcceptsNoFalseLoopOfASpoiledWorld) {
   for (const int group : {1, 4}) {
-    GridWorldOptions world;
-    world.poses = 2000;
-    world.false_loops = 60;
-    world.group = group;
-    const SimulatedWorld w = SimulateGridWorld(world);
+    const SimulatedWorld w = World(2000, 60, group);
     const Replay replay(w.graph, RrrOptions());
     const testing::Pairs accepted = replay.Accepted();
     const testing::Pairs wrong = FalsePairs(w);
@@ -88,12 +96,7 @@ std::vector<int> TrueLoops(const SimulatedWorld& w) {
 
 // A world of 1000 poses and 300 false loops in groups of ten.
 SimulatedWorld CrowdedWorld(std::uint64_t seed) {
-  GridWorldOptions world;
-  world.poses = 1000;
-  world.false_loops = 300;
-  world.group = 10;
-  world.seed = seed;
-  return SimulateGridWorld(world);
+  return World(1000, 300, 10, seed);
 }
 
 TEST(MapVerifier, LeavesOutTheLinksTheOdometryRefutesAlone) {
@@ -120,12 +123,7 @@ TEST(MapVerifier, KeepsARevisitThatAFalseGroupJoins) {
   // In this world (groups of ten false loops, seed 8) a false group falls
   // into one cluster with a revisit, and step 1's greedy drops the revisit's
   // links first; the second pass over them keeps the revisit.
-  GridWorldOptions world;
-  world.poses = 2000;
-  world.false_loops = 100;
-  world.group = 10;
-  world.seed = 8;
-  const SimulatedWorld w = SimulateGridWorld(world);
+  const SimulatedWorld w = World(2000, 100, 10, 8);
   EXPECT_EQ(VerifyWithMap(w.graph, RrrOptions()).accepted, TrueLoops(w));
 }
 
@@ -136,12 +134,7 @@ TEST(MapVerifier, ReviewsASplitClusterWhenTheMapHasGrown) {
   // They still fit the map when it is first minimized; at the next
   // minimization they do not, and of the cluster's links the revisit's
   // five each fit alone and together.
-  GridWorldOptions world;
-  world.poses = 900;
-  world.false_loops = 30;
-  world.group = 3;
-  world.seed = 4;
-  const SimulatedWorld w = SimulateGridWorld(world);
+  const SimulatedWorld w = World(900, 30, 3, 4);
   MapVerifierStats stats;
   const Verdict verdict =
       VerifyWithMap<Pose2>(w.graph, RrrOptions(), nullptr, &stats);
@@ -153,11 +146,7 @@ TEST(MapVerifier, ReviewsASplitClusterWhenTheMapHasGrown) {
 }
 
 TEST(MapVerifier, DecisionsDoNotDependOnWhenUpdatesRun) {
-  GridWorldOptions world;
-  world.poses = 1500;
-  world.false_loops = 40;
-  world.group = 3;
-  const SimulatedWorld w = SimulateGridWorld(world);
+  const SimulatedWorld w = World(1500, 40, 3);
   const RrrOptions options;
   const Replay every_pose(w.graph, options, 1);
   const Replay every_13(w.graph, options, 13);

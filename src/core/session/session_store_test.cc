@@ -80,6 +80,14 @@ class SessionStoreTest : public ::testing::Test {
     }
   }
 
+  // Records the world's first `poses` poses into a new session database at
+  // path_, an update committed every 10, and closes it.
+  void RecordFirstPoses(int poses) {
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    SessionStore<Pose2> store(path_, "map");
+    Record(&verifier, &store, poses, 10);
+  }
+
   fs::path dir_;
   std::string path_;
   SimulatedWorld world_;
@@ -213,11 +221,7 @@ TEST_F(SessionStoreTest, RefusesWhatItCannotResume) {
 }
 
 TEST_F(SessionStoreTest, RefusesRowsThatAreNotInputs) {
-  MapVerifier<Pose2> verifier{RrrOptions()};
-  {
-    SessionStore<Pose2> store(path_, "map");
-    Record(&verifier, &store, 100, 10);
-  }
+  RecordFirstPoses(100);
   Tamper(path_, "UPDATE inputs SET information = x'00' WHERE seq = 5");
   EXPECT_NE(ErrorOf([&] { ReadSession(path_); }).find("holds 1 bytes"),
             std::string::npos);
@@ -232,11 +236,7 @@ TEST_F(SessionStoreTest, RefusesRowsThatAreNotInputs) {
 }
 
 TEST_F(SessionStoreTest, RefusesKeyframesThatGoBackInTime) {
-  MapVerifier<Pose2> verifier{RrrOptions()};
-  {
-    SessionStore<Pose2> store(path_, "map");
-    Record(&verifier, &store, 100, 10);
-  }
+  RecordFirstPoses(100);
   Tamper(path_,
          "UPDATE inputs SET stamp_ns = 0 WHERE seq = (SELECT MAX(seq) FROM "
          "inputs WHERE pose_id = 50)");
@@ -249,11 +249,7 @@ TEST_F(SessionStoreTest, RefusesKeyframesThatGoBackInTime) {
 }
 
 TEST_F(SessionStoreTest, NamesTheInputAKeyframeCallbackRefuses) {
-  MapVerifier<Pose2> verifier{RrrOptions()};
-  {
-    SessionStore<Pose2> store(path_, "map");
-    Record(&verifier, &store, 100, 10);
-  }
+  RecordFirstPoses(100);
   MapVerifier<Pose2> resumed{RrrOptions()};
   SessionStore<Pose2> store(path_, "map");
   const std::string error = ErrorOf([&] {
@@ -312,11 +308,7 @@ TEST_F(SessionStoreTest, KeepsTheCandidatesWaitingByStampAtEachCommit) {
 }
 
 TEST_F(SessionStoreTest, BringsAVersionOneDatabaseUpToDate) {
-  MapVerifier<Pose2> verifier{RrrOptions()};
-  {
-    SessionStore<Pose2> store(path_, "map");
-    Record(&verifier, &store, 100, 10);
-  }
+  RecordFirstPoses(100);
   // As version 1 wrote it: no table of candidates waiting by stamp.
   Tamper(path_,
          "DROP TABLE waiting_by_stamp; UPDATE meta SET value = '1' WHERE key "
