@@ -89,6 +89,8 @@ def add_verify_arguments(parser):
                         help="pass --procedure to rrr verify")
     parser.add_argument("--span-gate", action="store_true",
                         help="pass --span-gate to rrr verify (published procedure)")
+    parser.add_argument("--trust-region", action="store_true",
+                        help="pass --trust-region to rrr verify (published procedure)")
     parser.add_argument("--threads", type=int,
                         help="pass --threads to rrr verify (default: rrr's, every core)")
     parser.add_argument("--noise-margin", type=float,
@@ -102,6 +104,8 @@ def verify_flags(args):
     flags = ["--method", args.method, "--procedure", args.procedure]
     if args.span_gate:
         flags.append("--span-gate")
+    if args.trust_region:
+        flags.append("--trust-region")
     if args.threads:
         flags += ["--threads", args.threads]
     if args.noise_margin is not None:

@@ -12,7 +12,7 @@
 
 #include "../src/core/testing/dataset_dir.h"
 #include "rrr/io/g2o.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -23,7 +23,7 @@ std::string DatasetPath(const std::string& name) {
 
 template <class Pose>
 void SolveAll(benchmark::State& state, const PoseGraph<Pose>& graph) {
-  GaussNewton<Pose> solver(graph, 4);
+  PoseGraphSolver<Pose> solver(graph, 4);
   const std::vector<int> all = AllLoops(graph);
   double chi2 = 0;
   for (auto _ : state) {

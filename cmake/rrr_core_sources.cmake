@@ -10,7 +10,7 @@ set(RRR_CORE_SOURCES
   src/core/eval/loop_scores.cc
   src/core/eval/ground_truth.cc
   src/core/sim/false_loops.cc
-  src/core/sim/grid_world.cc
+  src/core/sim/simulated_world.cc
   src/core/solver/block_cholesky.cc
   src/core/graph/candidate_defect.cc
   src/core/graph/keyframe_stamps.cc
@@ -20,7 +20,7 @@ set(RRR_CORE_SOURCES
   src/core/graph/odometry_noise.cc
   src/core/solver/local_problem.cc
   src/core/solver/condensed_solve.cc
-  src/core/solver/gauss_newton.cc
+  src/core/solver/pose_graph_solver.cc
   src/core/solver/solve_in_parallel.cc
   src/core/robust/reweighted_solve.cc
   src/core/robust/dcs.cc

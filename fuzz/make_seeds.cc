@@ -19,7 +19,7 @@
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/map_verifier.h"
 #include "rrr/session/session_store.h"
-#include "rrr/sim/grid_world.h"
+#include "rrr/sim/simulated_world.h"
 #include "rrr_slam/LoopClosure.h"
 
 namespace fs = std::filesystem;
@@ -90,11 +90,11 @@ int main(int argc, char** argv) {
   for (const char* target : {"g2o_reader", "session_reader", "msg_conversion"})
     fs::create_directories(dir / target);
 
-  rrr::GridWorldOptions options;
+  rrr::WorldOptions options;
   options.poses = 120;
   options.false_loops = 6;
   options.group = 2;
-  const rrr::SimulatedWorld world = rrr::SimulateGridWorld(options);
+  const rrr::SimulatedWorld world = rrr::SimulateWorld(options);
   const auto& g = world.graph;
   rrr::WriteG2oFile(g, g.estimates(), rrr::AllLoops(g),
                     (dir / "g2o_reader" / "world2d.g2o").string());

@@ -18,8 +18,8 @@
 #include "ros_test_helpers.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
-#include "rrr/sim/grid_world.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/sim/simulated_world.h"
+#include "rrr/solver/pose_graph_solver.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/LoopClosure.h"
@@ -48,17 +48,17 @@ rrr_slam::LoopClosure LoopMsg(const rrr::PoseGraph<rrr::Pose2>& g,
 
 TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
   ros::NodeHandle nh;
-  rrr::GridWorldOptions world_options;
+  rrr::WorldOptions world_options;
   world_options.poses = 400;
   world_options.false_loops = 12;
   world_options.group = 3;
   world_options.seed = 3;
-  const rrr::SimulatedWorld world = rrr::SimulateGridWorld(world_options);
+  const rrr::SimulatedWorld world = rrr::SimulateWorld(world_options);
   const auto& g = world.graph;
 
   // What batch RRR decides on the same graph (the node's default options).
   rrr::RrrOptions options;
-  rrr::GaussNewton<rrr::Pose2> solver(g, options.iterations);
+  rrr::PoseGraphSolver<rrr::Pose2> solver(g, options.iterations);
   const rrr::Verdict verdict =
       rrr::VerifyBatch(rrr::LoopEnds(g), solver, options);
   Pairs expected;

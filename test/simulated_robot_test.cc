@@ -9,7 +9,7 @@
 
 #include "ros_test_helpers.h"
 #include "rrr/rrr/verify_with_map.h"
-#include "rrr/sim/grid_world.h"
+#include "rrr/sim/simulated_world.h"
 #include "rrr_slam/Decisions.h"
 
 namespace {
@@ -17,7 +17,7 @@ namespace {
 using Pairs = std::set<std::pair<int64_t, int64_t>>;
 
 TEST(SimulatedRobot, EveryCandidateIsJudgedAsInABatchRun) {
-  rrr::GridWorldOptions world;
+  rrr::WorldOptions world;
   int seed = 0;
   ASSERT_TRUE(ros::param::get("/simulated_robot/poses", world.poses));
   ASSERT_TRUE(
@@ -25,7 +25,7 @@ TEST(SimulatedRobot, EveryCandidateIsJudgedAsInABatchRun) {
   ASSERT_TRUE(ros::param::get("/simulated_robot/group", world.group));
   ASSERT_TRUE(ros::param::get("/simulated_robot/seed", seed));
   world.seed = static_cast<std::uint64_t>(seed);
-  const rrr::SimulatedWorld w = rrr::SimulateGridWorld(world);
+  const rrr::SimulatedWorld w = rrr::SimulateWorld(world);
   Pairs false_pairs;
   for (const int k : w.false_loops) {
     const auto& l = w.graph.loops()[k];

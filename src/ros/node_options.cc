@@ -70,6 +70,10 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   nh.param("alpha", o.rrr.alpha, o.rrr.alpha);
   nh.param("span_gate", o.rrr.span_gate, o.rrr.span_gate);
   nh.param("threads", o.rrr.threads, o.rrr.threads);
+  bool trust_region = o.rrr.steps == rrr::SolveSteps::kTrustRegion;
+  nh.param("trust_region", trust_region, trust_region);
+  o.rrr.steps = trust_region ? rrr::SolveSteps::kTrustRegion
+                             : rrr::SolveSteps::kGaussNewton;
   std::string procedure = rrr::ToString(o.rrr.procedure);
   nh.param("procedure", procedure, procedure);
   if (!rrr::ParseProcedure(procedure, &o.rrr.procedure)) {

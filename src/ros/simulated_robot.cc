@@ -34,7 +34,7 @@ SimulatedRobotOptions SimulatedRobotOptions::Read(const ros::NodeHandle& nh) {
 SimulatedRobot::SimulatedRobot(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
                                const SimulatedRobotOptions& options)
     : options_(options),
-      world_(rrr::SimulateGridWorld(options.world)),
+      world_(rrr::SimulateWorld(options.world)),
       chain_(rrr::ChainOf(world_.graph)) {
   const auto& g = world_.graph;
   odometry_ = g.ComposeOdometry();

@@ -9,13 +9,13 @@
 
 #include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/odometry_noise.h"
-#include "rrr/sim/grid_world.h"
+#include "rrr/sim/simulated_world.h"
 
 namespace rrr_ros {
 
 struct SimulatedRobotOptions {
-  rrr::GridWorldOptions world;  // poses, false_loops, group, seed, ...
-  double rate = 20.0;           // odometry messages per second
+  rrr::WorldOptions world;  // poses, false_loops, group, seed, ...
+  double rate = 20.0;       // odometry messages per second
   std::string odom_frame = "odom", base_frame = "base_link";
 
   // Reads the private parameters (poses, false_loops, group, seed, rate,

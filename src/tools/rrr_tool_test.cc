@@ -81,6 +81,76 @@ TEST(RrrTool, UnknownTagsAreCountedInAWarning) {
               HasSubstr("skipped lines with unknown tags: VERTEX_XY x1"));
 }
 
+TEST(RrrTool, OptimizeSaysWhetherItConvergedAndFailsIfNot) {
+  const std::string world = Tmp("opt_world.g2o"), out = Tmp("opt_out.g2o"),
+                    report = Tmp("opt.json");
+  ASSERT_EQ(Rrr("simulate --poses 300 --false-loops 0 -o " + world + " -t " +
+                Tmp("opt_false.txt") + " --ground-truth " + Tmp("opt_gt.g2o"))
+                .status,
+            0);
+  const Result limited = Rrr("optimize " + world + " -o " + out +
+                             " --max-iterations 1 --report " + report);
+  EXPECT_EQ(limited.status, 3) << limited.output;
+  EXPECT_THAT(limited.output, HasSubstr("after 1 iterations, NOT converged"));
+  EXPECT_THAT(limited.output,
+              HasSubstr(world + ": not converged within 1 iterations"));
+  nlohmann::json r = ReadJson(report);
+  EXPECT_FALSE(r["optimization"]["converged"].get<bool>());
+  EXPECT_EQ(r["optimization"]["iterations"].get<int>(), 1);
+  const double start = r["optimization"]["initial_chi2"].get<double>();
+
+  const Result full =
+      Rrr("optimize " + world + " -o " + out + " --report " + report);
+  EXPECT_EQ(full.status, 0) << full.output;
+  EXPECT_THAT(full.output, HasSubstr("converged"));
+  r = ReadJson(report);
+  EXPECT_TRUE(r["optimization"]["converged"].get<bool>());
+  EXPECT_GT(r["optimization"]["iterations"].get<int>(), 1);
+  EXPECT_DOUBLE_EQ(r["optimization"]["initial_chi2"].get<double>(), start);
+  EXPECT_LT(r["optimization"]["final_chi2"].get<double>(), 0.01 * start);
+}
+
+TEST(RrrTool, MendsARealFileAndRefusesItUnderStrict) {
+  // Edges only (no VERTEX lines), and a loop whose information matrix has a
+  // negative eigenvalue (3 ± 5 in its xy block).
+  const std::string file = Tmp("edges_only.g2o"), out = Tmp("mended.g2o"),
+                    report = Tmp("mended.json");
+  std::ofstream(file) << "EDGE_SE2 0 1 1 0 0.5 1 0 0 1 0 1\n"
+                         "EDGE_SE2 1 2 1 0 0.5 1 0 0 1 0 1\n"
+                         "EDGE_SE2 2 3 1 0 0.5 1 0 0 1 0 1\n"
+                         "EDGE_SE2 3 0 1 0 0.5 3 5 0 3 0 4\n";
+  const Result mended =
+      Rrr("optimize " + file + " -o " + out + " -r " + report);
+  EXPECT_EQ(mended.status, 0) << mended.output;
+  EXPECT_THAT(mended.output,
+              HasSubstr(file + ":4: information matrix of edge 3 -> 0 is not "
+                               "positive definite"));
+  EXPECT_THAT(mended.output, HasSubstr(file + ": no vertices"));
+  const nlohmann::json r = ReadJson(report);
+  EXPECT_TRUE(r["poses_from_odometry"].get<bool>());
+  ASSERT_EQ(r["repaired_information"].size(), 1u);
+  EXPECT_EQ(r["repaired_information"][0][0].get<int>(), 4);
+  EXPECT_NEAR(r["repaired_information"][0][3].get<double>(), -2.0, 1e-9);
+  EXPECT_EQ(r["poses"].get<int>(), 4);
+  // rrr verify reads it the same way and lists the same.
+  const Result verified =
+      Rrr("verify " + file + " -w 10 -o " + out + " -r " + report);
+  EXPECT_EQ(verified.status, 0) << verified.output;
+  EXPECT_EQ(ReadJson(report)["repaired_information"].size(), 1u);
+
+  const Result strict = Rrr("optimize " + file + " -o " + out + " --strict");
+  EXPECT_EQ(strict.status, 1);
+  EXPECT_THAT(strict.output, HasSubstr(file + ": no vertices"));
+  std::ofstream(file) << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+                         "EDGE_SE2 0 1 1 0 0 3 5 0 3 0 4\n";
+  const Result strict_information =
+      Rrr("optimize " + file + " -o " + out + " --strict");
+  EXPECT_EQ(strict_information.status, 1);
+  EXPECT_THAT(strict_information.output,
+              HasSubstr(file + ":3: information matrix of edge 0 -> 1 is not "
+                               "positive definite"));
+}
+
 TEST(RrrTool, SimulateVerifyEvaluateRoundTrip) {
   const std::string world = Tmp("world.g2o"), truth = Tmp("false.txt"),
                     gt = Tmp("gt.g2o"), out = Tmp("out.g2o"),
@@ -96,6 +166,7 @@ TEST(RrrTool, SimulateVerifyEvaluateRoundTrip) {
   EXPECT_EQ(r["candidates"].get<size_t>(),
             r["accepted"].size() + r["rejected"].size());
   EXPECT_GT(r["clusters"].get<int>(), 0);
+  EXPECT_TRUE(r["final_optimization"]["converged"].get<bool>());
   EXPECT_GE(r["seconds"].get<double>(), 0.0);
   const Result e =
       Rrr("evaluate " + report + " --map " + out + " --false-loops " + truth +
@@ -181,8 +252,8 @@ TEST(RrrTool, SpoilAddsAndListsFalseLoops) {
     }
   }
   const Result missing =
-      Rrr("spoil " + world + " -n 25 -s 3 --reference " + short_truth +
-          " -o " + Tmp("spoiled3.g2o") + " -t " + Tmp("spoiled3.txt"));
+      Rrr("spoil " + world + " -n 25 -s 3 --reference " + short_truth + " -o " +
+          Tmp("spoiled3.g2o") + " -t " + Tmp("spoiled3.txt"));
   EXPECT_NE(missing.status, 0);
   EXPECT_THAT(missing.output, HasSubstr(short_truth + ": has no pose 299"));
 }

@@ -1,23 +1,32 @@
-// rrr simulate: the built-in grid-city world, with its ground truth.
+// rrr simulate: a built-in synthetic world, with its ground truth.
 #include <iostream>
 
 #include "commands.h"
 #include "output_paths.h"
 #include "rrr/eval/ground_truth.h"
 #include "rrr/io/g2o.h"
-#include "rrr/sim/grid_world.h"
+#include "rrr/sim/simulated_world.h"
 
 namespace rrr {
 
 void AddSimulateCommand(CLI::App& app) {
-  auto options = std::make_shared<GridWorldOptions>();
+  auto options = std::make_shared<WorldOptions>();
   auto output = std::make_shared<std::string>();
   auto truth = std::make_shared<std::string>();
   auto ground_truth = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand(
       "simulate",
-      "Make a synthetic grid-city world: a noisy odometry chain, true loops "
-      "at revisits and random false loops, with its ground truth.");
+      "Make a synthetic world (a grid city, a ring or a straight road): a "
+      "noisy odometry chain, true loops at revisits and random false loops, "
+      "with its ground truth.");
+  auto layout = std::make_shared<std::string>("grid");
+  cmd->add_option("--layout", *layout,
+                  "grid (streets of a city), ring (laps of a circle: every "
+                  "revisit closes one place) or line (no revisit)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"grid", "ring", "line"}));
+  cmd->add_option("--ring", options->ring, "ring layout: poses per lap")
+      ->capture_default_str();
   cmd->add_option("--poses", options->poses, "number of poses")
       ->capture_default_str();
   cmd->add_option("--false-loops", options->false_loops,
@@ -34,10 +43,11 @@ void AddSimulateCommand(CLI::App& app) {
                   "the true trajectory as g2o (vertices and odometry)")
       ->required();
   cmd->callback([=] {
+    ParseLayout(*layout, &options->layout);
     const std::string problem = options->Validate();
     if (!problem.empty()) throw CLI::ValidationError("simulate", problem);
     CheckOutputPaths({}, {*output, *truth, *ground_truth});
-    const SimulatedWorld world = SimulateGridWorld(*options);
+    const SimulatedWorld world = SimulateWorld(*options);
     const auto& g = world.graph;
     WriteG2oFile(g, g.estimates(), AllLoops(g), *output);
     WriteG2oFile(g, world.truth, {}, *ground_truth);

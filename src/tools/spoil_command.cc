@@ -4,10 +4,10 @@
 #include "commands.h"
 #include "graph_file.h"
 #include "output_paths.h"
-#include "rrr/io/input_error.h"
 #include "rrr/eval/ground_truth.h"
+#include "rrr/io/input_error.h"
 #include "rrr/sim/false_loops.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -23,7 +23,7 @@ template <class Pose>
 std::vector<Pose> ReferencePoses(const PoseGraph<Pose>& graph,
                                  const SpoilArgs& args) {
   if (args.reference.empty()) {
-    GaussNewton<Pose> solver(graph, 1);
+    PoseGraphSolver<Pose> solver(graph, 1);
     return solver.Optimize(AllLoops(graph), {});
   }
   const AnyPoseGraph loaded = LoadGraph(args.reference).graph;
@@ -86,6 +86,21 @@ void AddSpoilCommand(CLI::App& app) {
                 "second pose within --local-range poses of the first");
   cmd->add_option("--local-range", args->options.local_range,
                   "range of --local in poses")
+      ->capture_default_str();
+  cmd->add_flag("--look-alike", args->options.look_alike,
+                "look-alike places: poses at least --look-alike-gap apart, "
+                "measurement near the identity (translation up to "
+                "--look-alike-translation m, rotation up to "
+                "--look-alike-rotation rad, uniformly)");
+  cmd->add_option("--look-alike-gap", args->options.look_alike_gap,
+                  "least pose distance of --look-alike")
+      ->capture_default_str();
+  cmd->add_option("--look-alike-translation",
+                  args->options.look_alike_translation,
+                  "largest translation of --look-alike in m (0: none)")
+      ->capture_default_str();
+  cmd->add_option("--look-alike-rotation", args->options.look_alike_rotation,
+                  "largest rotation of --look-alike in rad (0: none)")
       ->capture_default_str();
   cmd->add_option("-g,--group", args->options.group,
                   "groups of G consecutive false loops (i+k, j+k)")

@@ -16,7 +16,7 @@
 #include "rrr/robust/pcm.h"
 #include "rrr/rrr/batch_verifier.h"
 #include "rrr/rrr/verify_with_map.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -24,6 +24,7 @@ namespace {
 struct VerifyArgs {
   std::string input, output, report;
   bool strict = false;
+  bool trust_region = false;
   std::string procedure = "map";
   std::string method = "rrr";
   RrrOptions options;
@@ -40,44 +41,32 @@ nlohmann::json PairList(const PoseGraph<Pose>& graph,
   return list;
 }
 
-// The skipped candidates by reason: {"self_loop": {"count": n, "candidates":
-// [[line, i, j], ...]}, ...}.
-nlohmann::json SkippedByReason(const std::vector<SkippedCandidate>& skipped) {
-  nlohmann::json out = nlohmann::json::object();
-  for (const SkippedCandidate& s : skipped) {
-    nlohmann::json& entry = out[ToString(s.defect)];
-    if (entry.is_null()) entry = {{"count", 0}, {"candidates", {}}};
-    entry["count"] = entry["count"].get<int>() + 1;
-    entry["candidates"].push_back({s.line, s.from, s.to});
-  }
-  return out;
-}
-
 template <class Pose>
-void Verify(const PoseGraph<Pose>& graph,
-            const std::vector<SkippedCandidate>& skipped,
+void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
             const VerifyArgs& args) {
   const auto start = std::chrono::steady_clock::now();
-  GaussNewton<Pose> solver(graph, args.options.iterations);
+  PoseGraphSolver<Pose> solver(graph, args.options.iterations,
+                               args.options.steps);
+  MinimizeResult final_map;
   Verdict verdict;
   std::vector<Pose> map;
   MapVerifierStats stats;
   if (args.method == "dcs") {
-    verdict = VerifyWithDcs(graph, DcsOptions(), &map);
+    verdict = VerifyWithDcs(graph, DcsOptions(), &map, &final_map);
   } else if (args.method == "gnc") {
-    verdict = VerifyWithGncTls(graph, GncTlsOptions(), &map);
+    verdict = VerifyWithGncTls(graph, GncTlsOptions(), &map, &final_map);
   } else if (args.method == "pcm") {
-    verdict = VerifyWithPcm(graph, PcmOptions(), &map);
+    verdict = VerifyWithPcm(graph, PcmOptions(), &map, &final_map);
   } else if (args.options.procedure == Procedure::kMap) {
     std::vector<Pose> maintained;
     verdict = VerifyWithMap(graph, args.options, &maintained, &stats);
-    map = solver.Optimize(verdict.accepted, {}, nullptr, &maintained);
+    map = solver.Optimize(verdict.accepted, {}, &final_map, &maintained);
   } else {
     ProgressBar bar("rrr: clusters", true);
     verdict =
         VerifyBatch(LoopEnds(graph), solver, args.options,
                     [&bar](int done, int total) { bar.Update(done, total); });
-    map = solver.Optimize(verdict.accepted, {});
+    map = solver.Optimize(verdict.accepted, {}, &final_map);
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -89,20 +78,23 @@ void Verify(const PoseGraph<Pose>& graph,
   report["dimension"] = Pose::kTranslationDim;
   report["poses"] = graph.num_poses();
   report["candidates"] = graph.loops().size();
-  report["skipped_candidates"] = SkippedByReason(skipped);
+  report.update(input_notes);
   report["clusters"] = verdict.clusters.size();
   report["accepted"] = PairList(graph, verdict.accepted);
   report["rejected"] = PairList(graph, verdict.rejected);
   report["seconds"] = seconds;
   report["method"] = args.method;
-  report["options"] = {{"procedure", ToString(args.options.procedure)},
-                       {"cluster_window", args.options.cluster_window},
-                       {"iterations", args.options.iterations},
-                       {"alpha", args.options.alpha},
-                       {"span_gate", args.options.span_gate},
-                       {"threads", args.options.threads},
-                       {"noise_scale", args.options.noise_scale},
-                       {"map_radius", args.options.map_radius}};
+  report["options"] = {
+      {"procedure", ToString(args.options.procedure)},
+      {"cluster_window", args.options.cluster_window},
+      {"iterations", args.options.iterations},
+      {"trust_region", args.options.steps == SolveSteps::kTrustRegion},
+      {"alpha", args.options.alpha},
+      {"span_gate", args.options.span_gate},
+      {"threads", args.options.threads},
+      {"noise_scale", args.options.noise_scale},
+      {"map_radius", args.options.map_radius}};
+  report["final_optimization"] = MinimizeJson(final_map);
   if (args.method == "rrr" && args.options.procedure == Procedure::kMap) {
     report["map_procedure"] = {{"intra_solves", stats.intra_solves},
                                {"quick_accepts", stats.quick_accepts},
@@ -174,6 +166,10 @@ void AddVerifyCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("-a,--alpha", args->options.alpha, "chi-square quantile")
       ->capture_default_str();
+  cmd->add_flag("--trust-region", args->trust_region,
+                "published procedure: take each test's iterations as "
+                "Levenberg-Marquardt steps, which never raise the error, "
+                "instead of Gauss-Newton steps");
   cmd->add_flag("--span-gate", args->options.span_gate,
                 "gate each solve's total error over the edges its loops span, "
                 "not the whole graph (an option beyond the published method)");
@@ -185,21 +181,25 @@ void AddVerifyCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--strict", args->strict,
                 "stop at the first degenerate candidate (a self loop or an "
-                "unknown pose) instead of skipping it; keep duplicates and "
-                "further edges between consecutive poses");
+                "unknown pose), information matrix that is not positive "
+                "definite or file without vertices instead of mending it; "
+                "keep duplicates and further edges between consecutive "
+                "poses");
   cmd->add_option("-o,--output", args->output, "optimized g2o output")
       ->required();
   cmd->add_option("-r,--report", args->report, "JSON report output")
       ->required();
   cmd->callback([args] {
     ParseProcedure(args->procedure, &args->options.procedure);
+    if (args->trust_region) {
+      args->options.steps = SolveSteps::kTrustRegion;
+    }
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
     CheckOutputPaths({args->input}, {args->output, args->report});
     const G2oFile file = LoadGraph(args->input, args->strict);
-    std::visit(
-        [&](const auto& g) { Verify(g, file.skipped_candidates, *args); },
-        file.graph);
+    const nlohmann::json notes = InputNotes(file);
+    std::visit([&](const auto& g) { Verify(g, notes, *args); }, file.graph);
   });
 }
 

@@ -31,6 +31,16 @@ struct SkippedCandidate {
   CandidateDefect defect;
 };
 
+// An edge whose information matrix was not positive definite, replaced by
+// the nearest positive definite matrix: the same eigenvectors, each
+// eigenvalue raised to at least kLeastInformationRatio times the largest.
+struct RepairedInformation {
+  int line;
+  PoseId from, to;
+  double smallest_eigenvalue;  // as the file gave it
+};
+constexpr double kLeastInformationRatio = 1e-6;
+
 // A parsed g2o file. Lines with tags other than VERTEX_SE2, EDGE_SE2,
 // VERTEX_SE3:QUAT, EDGE_SE3:QUAT and FIX are skipped and counted by tag.
 struct G2oFile {
@@ -38,17 +48,24 @@ struct G2oFile {
   std::map<std::string, int> skipped_tags;
   // Degenerate candidates left out, in file order (empty when strict).
   std::vector<SkippedCandidate> skipped_candidates;
+  // Information matrices repaired, in file order (empty when strict).
+  std::vector<RepairedInformation> repaired_information;
+  // The file had no vertices: its poses are the ids its edges name, placed
+  // along its odometry chain from the identity.
+  bool poses_from_odometry = false;
 };
 
-// Parses g2o text. Every malformed input (missing or extra fields, a field
-// that is not a finite number, a duplicate vertex, an information matrix
-// that is not positive definite, a zero quaternion, 2D and 3D elements in one
-// file, a file without vertices) throws InputError naming `source`, the line
-// and the problem. Degenerate candidates (SkippedCandidate) are left out and
-// listed; with `strict`, an edge from a vertex to itself or to an unknown
-// vertex throws instead, and duplicates and further edges between
-// consecutive poses are kept (RRR judges duplicates, the solver uses every
-// odometry edge).
+// Parses g2o text leniently, as real files come. Malformed input (missing
+// or extra fields, a field that is not a finite number, a duplicate vertex,
+// an information matrix without a positive eigenvalue, a zero quaternion, 2D
+// and 3D elements in one file, a file without vertices or edges) throws
+// InputError naming `source`, the line and the problem. What can be mended
+// is mended and listed: degenerate candidates (SkippedCandidate) are left
+// out, an information matrix that is not positive definite is repaired
+// (RepairedInformation), and a file of edges only takes its poses from its
+// odometry. With `strict`, each of these throws instead, except that
+// duplicates and further edges between consecutive poses are kept (RRR
+// judges duplicates, the solver uses every odometry edge).
 G2oFile ParseG2o(std::istream& in, const std::string& source,
                  bool strict = false);
 // Reads the file at `path`; throws InputError if it cannot be opened.

@@ -6,6 +6,7 @@
 
 #include "rrr/graph/pose_graph.h"
 #include "rrr/rrr/batch_verifier.h"
+#include "rrr/solver/convergence.h"
 
 namespace rrr {
 
@@ -23,7 +24,8 @@ struct DcsOptions {
 // The decisions; `*map` gets the final estimate if given.
 template <class Pose>
 Verdict VerifyWithDcs(const PoseGraph<Pose>& graph, const DcsOptions& options,
-                      std::vector<Pose>* map = nullptr);
+                      std::vector<Pose>* map = nullptr,
+                      MinimizeResult* minimized = nullptr);
 
 }  // namespace rrr
 

@@ -7,6 +7,7 @@
 
 #include "rrr/graph/pose_graph.h"
 #include "rrr/rrr/batch_verifier.h"
+#include "rrr/solver/convergence.h"
 
 namespace rrr {
 
@@ -26,7 +27,8 @@ struct GncTlsOptions {
 template <class Pose>
 Verdict VerifyWithGncTls(const PoseGraph<Pose>& graph,
                          const GncTlsOptions& options,
-                         std::vector<Pose>* map = nullptr);
+                         std::vector<Pose>* map = nullptr,
+                         MinimizeResult* minimized = nullptr);
 
 }  // namespace rrr
 

@@ -6,6 +6,7 @@
 
 #include "rrr/graph/pose_graph.h"
 #include "rrr/rrr/batch_verifier.h"
+#include "rrr/solver/convergence.h"
 
 namespace rrr {
 
@@ -27,7 +28,8 @@ struct PcmOptions {
 // if given.
 template <class Pose>
 Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
-                      std::vector<Pose>* map = nullptr);
+                      std::vector<Pose>* map = nullptr,
+                      MinimizeResult* minimized = nullptr);
 
 }  // namespace rrr
 

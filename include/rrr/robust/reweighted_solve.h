@@ -22,13 +22,16 @@ template <class Pose>
 struct ReweightedResult {
   std::vector<Pose> estimate;   // every pose
   std::vector<double> weights;  // of each loop at the end
-  int iterations = 0;           // Gauss–Newton steps
+  // Its iterations, whether it converged (the weights settled and the error
+  // stopped decreasing) and the weighted error at the start and the end.
+  MinimizeResult minimize;
 };
 
 // Starting from the odometry with every weight 1, alternates one
-// Gauss–Newton step of odometry plus the weighted loops (the first pose
-// held) with `reweigh`, until the weights settle and the error stops
-// decreasing, or `options.max_iterations` steps.
+// Levenberg–Marquardt iteration on odometry plus the weighted loops (the
+// first pose held; the damping carried over) with `reweigh`, until the
+// weights settle and the error stops decreasing, or `options.max_iterations`
+// iterations.
 template <class Pose>
 ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
                                        const Reweigh& reweigh,

@@ -23,7 +23,7 @@ namespace rrr {
 // VerifyBatch on graph().
 //
 // A cluster's consistency solve depends only on the stretch of chain its
-// loops span (see GaussNewton), so its errors are computed once and reused
+// loops span (see PoseGraphSolver), so its errors are computed once and reused
 // as the chain grows; only the gate's edge count is brought up to date.
 template <class Pose>
 class IncrementalVerifier : public OnlineVerifier<Pose> {

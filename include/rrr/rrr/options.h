@@ -26,8 +26,12 @@ struct RrrOptions {
   // t: loops whose ends are closer than this many poses may share a cluster.
   // 10 suits keyframe graphs; 50 suits Bicocca 25b (5 Hz odometry, 1 Hz loops).
   int cluster_window = 10;
-  // k: Gauss–Newton iterations of each consistency test.
+  // k: iterations of each consistency test.
   int iterations = 4;
+  // The published procedure: how those k iterations step. Gauss–Newton as
+  // published; Levenberg–Marquardt steps never raise the error, so a solve that
+  // plain steps would throw off from odometry stays near it.
+  SolveSteps steps = SolveSteps::kGaussNewton;
   // α: the χ² quantile of every gate.
   double alpha = 0.95;
   // Off (the method as published): the total error D²_G of a solve is gated

@@ -15,6 +15,15 @@ struct FalseLoopOptions {
   // Local: the second pose within `local_range` poses of the first.
   bool local = false;
   int local_range = 20;
+  // Look-alike places (what a place recogniser reports for a similar view):
+  // the poses at least `look_alike_gap` apart and a measurement near the
+  // identity, its translation uniform in the ball of `look_alike_translation`
+  // m and its rotation angle uniform up to `look_alike_rotation` rad (both 0:
+  // the identity).
+  bool look_alike = false;
+  int look_alike_gap = 20;
+  double look_alike_translation = 2.0;
+  double look_alike_rotation = 0.5;
   // Groups of `group` consecutive false loops (i+k, j+k), k = 0..group-1,
   // sharing one drawn measurement, which look like a real revisit.
   int group = 1;
@@ -26,7 +35,8 @@ struct FalseLoopOptions {
 
 // Adds `options.count` false loops between pose pairs drawn uniformly at
 // random (|i - j| > 1), with a measurement drawn from x, y (, z) ~ N(0, 0.3 m)
-// and each rotation angle ~ N(0, 10°), and the information matrix of the
+// and each rotation angle ~ N(0, 10°) (or look-alike: see FalseLoopOptions),
+// and the information matrix of the
 // graph's first loop (of its first odometry edge if it has no loop). Returns
 // the indices in graph->loops() of the added loops. No added loop shares its
 // pair of poses with another loop of the graph (old or added), so lists of

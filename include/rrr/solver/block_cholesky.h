@@ -38,8 +38,8 @@ class BlockCholesky {
 
   // Clears every value (the pattern stays).
   void SetZero();
-  // A(b, b) += m; m must be symmetric.
-  void AddDiagonal(int block, const Block& m);
+  // A(b, b) = m; m must be symmetric.
+  void SetDiagonal(int block, const Block& m);
   // A(r, c) += m and A(c, r) += mᵀ for the slot of (r, c) in that order.
   void AddOffDiagonal(int slot, int r, int c, const Block& m);
 

@@ -28,9 +28,9 @@ class ConsistencySolver {
  public:
   virtual ~ConsistencySolver() = default;
   // Resets every pose to the odometry initial estimate, runs a fixed number
-  // of Gauss–Newton iterations with odometry and `active_loops` (indices of
-  // loop candidates) active and the first pose fixed, and returns the errors
-  // at the resulting estimate.
+  // of iterations (Gauss–Newton or Levenberg–Marquardt) with odometry and
+  // `active_loops` (indices of loop candidates) active and the first pose
+  // fixed, and returns the errors at the resulting estimate.
   virtual SubsetErrors Solve(const std::vector<int>& active_loops) = 0;
   // Dimension e of one edge residual (3 in 2D, 6 in 3D).
   virtual int residual_dim() const = 0;

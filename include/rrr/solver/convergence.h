@@ -4,6 +4,12 @@
 
 namespace rrr {
 
+// How a fixed number of iterations (RRR's consistency solves) step.
+enum class SolveSteps {
+  kGaussNewton,  // plain steps, as RRR is published
+  kTrustRegion,  // Levenberg–Marquardt (TrustRegion): never raises the error
+};
+
 // When a minimization stops.
 struct ConvergenceOptions {
   int max_iterations = 100;
@@ -14,8 +20,9 @@ struct ConvergenceOptions {
 // What a minimization did.
 struct MinimizeResult {
   int iterations = 0;
-  // The last step decreased the error by less than the relative threshold
-  // (or would have increased it).
+  // The last step decreased the error by less than the relative threshold,
+  // or no step could decrease it by that much (false: stopped by the
+  // iteration limit, or not solved).
   bool converged = false;
   // False if a linear system could not be solved (the estimate is then the
   // best one reached before).

@@ -1,7 +1,8 @@
-// Gauss–Newton on a chosen part of a pose graph.
+// Gauss–Newton and Levenberg–Marquardt on a chosen part of a pose graph.
 #ifndef RRR_SOLVER_LOCAL_PROBLEM_H_
 #define RRR_SOLVER_LOCAL_PROBLEM_H_
 
+#include <Eigen/Core>
 #include <memory>
 #include <vector>
 
@@ -12,6 +13,31 @@ namespace rrr {
 
 template <int D>
 class BlockCholesky;
+
+// The state of Levenberg–Marquardt minimization, carried from one iteration
+// to the next: steps solve (H + damping·S) δ = −g with S = diag(H), which
+// makes them independent of the units of each pose coordinate and of any
+// common scale of the information matrices. The damping starts at 0: plain
+// Gauss–Newton steps are taken while they decrease the error, and from the
+// first that does not, the damping follows Nielsen's rule (as in Ceres and
+// g2o): raised after each failed step, lowered after good ones, and back to
+// 0 once below kLeastDamping.
+struct TrustRegion {
+  static constexpr double kFirstDamping = 1e-4;
+  static constexpr double kLeastDamping = 1e-10;
+  double damping = 0.0;
+  double growth = 2.0;  // the factor of the next rise (doubles per failure)
+  // Below this relative decrease of the error a step counts as none.
+  double relative_decrease = 1e-9;
+};
+
+// What one Levenberg–Marquardt iteration did.
+enum class StepOutcome {
+  kTaken,       // a step decreased the error
+  kNoDecrease,  // no step can decrease the error by relative_decrease
+                // (x unchanged: a minimum to that precision)
+  kNotSolved,   // no damped system could be solved (x unchanged)
+};
 
 // The least-squares problem of some edges over some free poses; every other
 // pose an edge touches is held at its current estimate. The sparsity pattern
@@ -43,9 +69,16 @@ class LocalProblem {
   // graph). Returns false, leaving `x` unchanged, if the linear system is not
   // positive definite.
   bool Step(std::vector<Pose>* x);
-  // Steps until the error decreases by less than the relative threshold or
-  // `options.max_iterations` steps were made. A step that would increase the
-  // error is not taken (and ends the minimization as converged).
+  // One Levenberg–Marquardt iteration (see TrustRegion): linearizes at `x`
+  // and solves the damped system, raising the damping after each step that
+  // would not decrease the error, until a step does; `x` then takes it.
+  // Sets the error at `x` before and after.
+  StepOutcome StepWithin(TrustRegion* region, std::vector<Pose>* x,
+                         double* chi2_before, double* chi2_after);
+  // Levenberg–Marquardt iterations until a step decreases the error by less
+  // than `options.relative_decrease` of it, no step can (kNoDecrease), or
+  // `options.max_iterations` steps were taken (not converged). The error
+  // never increases.
   MinimizeResult Minimize(std::vector<Pose>* x,
                           const ConvergenceOptions& options);
   // Σ w rᵀ Ω r over the problem's edges at `x` (w: their weights).
@@ -53,10 +86,20 @@ class LocalProblem {
 
  private:
   static constexpr int D = Pose::kDof;
+  using Block = Eigen::Matrix<double, D, D>;
   struct Slots {
     int from, to;      // blocks, -1 for poses held fixed
     int off_diagonal;  // -1 if either pose is held fixed
   };
+
+  // Builds the normal equations H δ = rhs at `x`: the off-diagonal blocks in
+  // system_, the diagonal ones in diagonal_, rhs (minus the gradient) in
+  // rhs_, and the damping's scaling S. Returns the error at `x`.
+  double Linearize(const std::vector<Pose>& x);
+  // Solves (H + damping·S) δ = rhs at the last linearization.
+  bool SolveDamped(double damping, Eigen::VectorXd* delta);
+  // x ⊞ δ on the free poses.
+  void Retract(const Eigen::VectorXd& delta, std::vector<Pose>* x) const;
 
   std::vector<int> free_;
   std::vector<int> block_of_pose_;  // -1 for poses held fixed
@@ -64,6 +107,9 @@ class LocalProblem {
   std::vector<double> weights_;  // empty: all 1
   std::vector<Slots> slots_;
   std::unique_ptr<BlockCholesky<D>> system_;
+  std::vector<Block> diagonal_;
+  Eigen::VectorXd rhs_;
+  Eigen::VectorXd scaling_;
 };
 
 }  // namespace rrr

@@ -1,6 +1,7 @@
 #include "rrr/io/g2o.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
@@ -68,12 +69,40 @@ struct G2oTraits<Pose3> {
   }
 };
 
+// Makes `information` positive definite (RepairedInformation) if it is not;
+// returns its smallest eigenvalue as given when it was repaired. Throws
+// InputError if no eigenvalue is positive, or, when `strict`, if any is not.
+template <class Information>
+std::optional<double> RepairInformation(Information* information,
+                                        const PendingEdge& e,
+                                        const std::string& source,
+                                        bool strict) {
+  const Eigen::LLT<Information> llt(*information);
+  if (llt.info() == Eigen::Success) return std::nullopt;
+  const auto problem = [&](const std::string& what) {
+    return InputError(source, e.line,
+                      "information matrix of edge " + std::to_string(e.from) +
+                          " -> " + std::to_string(e.to) + " " + what);
+  };
+  if (strict) throw problem("is not positive definite");
+  const Eigen::SelfAdjointEigenSolver<Information> eigen(*information);
+  const auto& values = eigen.eigenvalues();  // ascending
+  const double largest = values(values.size() - 1);
+  if (!(largest > 0.0)) throw problem("has no positive eigenvalue");
+  const double least = kLeastInformationRatio * largest;
+  *information = eigen.eigenvectors() * values.cwiseMax(least).asDiagonal() *
+                 eigen.eigenvectors().transpose();
+  *information = 0.5 * (*information + information->transpose()).eval();
+  return values(0);
+}
+
 template <class Pose>
 PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
                            const std::vector<PendingEdge>& edges,
                            const std::vector<std::pair<int, PoseId>>& fixed,
                            const std::string& source, bool strict,
-                           std::vector<SkippedCandidate>* skipped) {
+                           std::vector<SkippedCandidate>* skipped,
+                           std::vector<RepairedInformation>* repaired) {
   using Traits = G2oTraits<Pose>;
   constexpr int kDof = Pose::kDof;
   PoseGraph<Pose> graph;
@@ -138,14 +167,9 @@ PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
         edge.information(r, c) = edge.information(c, r) = upper[k];
       }
     }
-    const Eigen::LLT<typename PoseGraph<Pose>::Edge::Information> llt(
-        edge.information);
-    if (llt.info() != Eigen::Success) {
-      throw InputError(source, e.line,
-                       "information matrix of edge " + std::to_string(e.from) +
-                           " -> " + std::to_string(e.to) +
-                           " is not positive definite");
-    }
+    const std::optional<double> smallest =
+        RepairInformation(&edge.information, e, source, strict);
+    if (smallest) repaired->push_back({e.line, e.from, e.to, *smallest});
     graph.AddEdge(edge);
   }
   for (const auto& [line, id] : fixed) {
@@ -211,16 +235,34 @@ G2oFile ParseG2o(std::istream& in, const std::string& source, bool strict) {
     }
   }
   if (in.bad()) throw InputError(source, 0, "read error");
-  if (vertices.empty()) throw InputError(source, 0, "no vertices");
+  const bool poses_from_odometry = vertices.empty() && !edges.empty();
+  if (vertices.empty()) {
+    if (edges.empty()) throw InputError(source, 0, "no vertices and no edges");
+    if (strict) throw InputError(source, 0, "no vertices");
+    // Every id the edges name, at the identity until the chain places it.
+    const std::vector<double> identity =
+        dim == Dimension::k3D ? std::vector<double>{0, 0, 0, 0, 0, 0, 1}
+                              : std::vector<double>{0, 0, 0};
+    for (const PendingEdge& e : edges) {
+      for (const PoseId id : {e.from, e.to}) {
+        vertices.emplace(id, PendingVertex{e.line, identity});
+      }
+    }
+  }
 
-  std::vector<SkippedCandidate> skipped_candidates;
-  G2oFile file{
-      dim == Dimension::k3D
-          ? AnyPoseGraph(BuildGraph<Pose3>(vertices, edges, fixed, source,
-                                           strict, &skipped_candidates))
-          : AnyPoseGraph(BuildGraph<Pose2>(vertices, edges, fixed, source,
-                                           strict, &skipped_candidates)),
-      skipped, std::move(skipped_candidates)};
+  G2oFile file;
+  const auto build = [&](auto pose_tag) -> AnyPoseGraph {
+    using Pose = decltype(pose_tag);
+    PoseGraph<Pose> graph =
+        BuildGraph<Pose>(vertices, edges, fixed, source, strict,
+                         &file.skipped_candidates, &file.repaired_information);
+    if (poses_from_odometry)
+      graph.mutable_estimates() = graph.ComposeOdometry();
+    return graph;
+  };
+  file.graph = dim == Dimension::k3D ? build(Pose3()) : build(Pose2());
+  file.skipped_tags = std::move(skipped);
+  file.poses_from_odometry = poses_from_odometry;
   return file;
 }
 

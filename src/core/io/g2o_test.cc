@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cstring>
 #include <sstream>
@@ -79,17 +80,71 @@ TEST(G2o, AQuaternionWithHugeComponentsIsADirection) {
   EXPECT_NEAR(e.measurement.angle(), M_PI, 1e-9);
 }
 
-TEST(G2o, WriteThenReadGivesTheSameGraph) {
-  const auto g = std::get<PoseGraph2>(Parse(kSquare2D).graph);
-  std::ostringstream out;
-  WriteG2o(g, g.estimates(), AllLoops(g), out);
-  const auto h = std::get<PoseGraph2>(Parse(out.str()).graph);
+// Every pose, edge, measurement and information matrix of `h` equals `g`'s
+// (to rounding: the writer keeps full precision, the reader normalizes
+// quaternions again).
+template <class Pose>
+void ExpectSameGraph(const PoseGraph<Pose>& g, const PoseGraph<Pose>& h) {
+  EXPECT_EQ(h.ids(), g.ids());
   ASSERT_EQ(h.num_poses(), g.num_poses());
-  ASSERT_EQ(h.loops().size(), 1u);
   for (int k = 0; k < g.num_poses(); ++k) {
-    EXPECT_DOUBLE_EQ(h.estimates()[k].theta(), g.estimates()[k].theta());
+    EXPECT_LT((h.estimates()[k].Log() - g.estimates()[k].Log()).norm(), 1e-12)
+        << "pose " << k;
   }
-  EXPECT_EQ(h.loops()[0].information, g.loops()[0].information);
+  EXPECT_EQ(h.fixed(), g.fixed());
+  const auto same_edges = [](const std::vector<Constraint<Pose>>& a,
+                             const std::vector<Constraint<Pose>>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); ++k) {
+      EXPECT_EQ(a[k].from, b[k].from) << "edge " << k;
+      EXPECT_EQ(a[k].to, b[k].to) << "edge " << k;
+      EXPECT_LT((a[k].measurement.Log() - b[k].measurement.Log()).norm(), 1e-12)
+          << "edge " << k;
+      EXPECT_EQ(a[k].information, b[k].information) << "edge " << k;
+    }
+  };
+  same_edges(h.odometry(), g.odometry());
+  same_edges(h.loops(), g.loops());
+}
+
+TEST(G2o, WriteThenReadGivesTheSameGraph) {
+  // Distinct values in every field, so that a swapped or dropped field shows.
+  const auto g2 =
+      std::get<PoseGraph2>(Parse("VERTEX_SE2 0 0.125 -0.25 0.5\n"
+                                 "VERTEX_SE2 1 1.1 0.3 1.2\n"
+                                 "VERTEX_SE2 2 0.9 1.7 -2.9\n"
+                                 "FIX 1\n"
+                                 "EDGE_SE2 0 1 1.01 0.02 1.03 11 1 2 12 3 13\n"
+                                 "EDGE_SE2 1 2 0.97 -0.05 1.52 21 4 5 22 6 23\n"
+                                 "EDGE_SE2 2 0 1.3 0.9 1.61 31 7 8 32 9 33\n")
+                               .graph);
+  std::ostringstream out2;
+  WriteG2o(g2, g2.estimates(), AllLoops(g2), out2);
+  ExpectSameGraph(g2, std::get<PoseGraph2>(Parse(out2.str()).graph));
+
+  // The upper triangle row by row: a dominant diagonal, distinct entries.
+  std::string info;
+  for (int r = 0, k = 0; r < 6; ++r) {
+    for (int c = r; c < 6; ++c, ++k) {
+      info += " " + std::to_string(r == c ? 40.0 + k : 0.5 + 0.01 * k);
+    }
+  }
+  const auto g3 = std::get<PoseGraph3>(
+      Parse("VERTEX_SE3:QUAT 0 0.1 0.2 0.3 0 0 0 1\n"
+            "VERTEX_SE3:QUAT 1 1.1 -0.2 0.35 0.1 0.2 0.3 0.927\n"
+            "VERTEX_SE3:QUAT 2 2.1 0.4 -0.3 -0.2 0.1 0.05 0.97\n"
+            "EDGE_SE3:QUAT 0 1 1 0.1 0.2 0.05 0.1 0.15 0.98" +
+            info +
+            "\n"
+            "EDGE_SE3:QUAT 1 2 0.9 -0.1 0.3 0.1 -0.05 0.2 0.97" +
+            info +
+            "\n"
+            "EDGE_SE3:QUAT 0 2 2 0.3 -0.1 -0.1 0.2 0.1 0.96" +
+            info + "\n")
+          .graph);
+  std::ostringstream out3;
+  WriteG2o(g3, g3.estimates(), AllLoops(g3), out3);
+  ExpectSameGraph(g3, std::get<PoseGraph3>(Parse(out3.str()).graph));
 }
 
 TEST(G2o, WritesOnlyTheChosenLoops) {
@@ -166,7 +221,66 @@ TEST(G2o, ErrorsNameFileLineAndProblem) {
   EXPECT_THAT(ErrorOf("FIX 3\nVERTEX_SE2 0 0 0 0\n"),
               HasSubstr("test.g2o:1: FIX refers to unknown vertex 3"));
   EXPECT_THAT(ErrorOf("# only a comment\n"),
+              HasSubstr("test.g2o: no vertices and no edges"));
+  EXPECT_THAT(ErrorOf("EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"),
               HasSubstr("test.g2o: no vertices"));
+}
+
+G2oFile ParseLeniently(const std::string& text) {
+  std::istringstream in(text);
+  return ParseG2o(in, "test.g2o");
+}
+
+TEST(G2o, AFileOfEdgesOnlyTakesItsPosesFromItsOdometry) {
+  const G2oFile file = ParseLeniently(
+      "EDGE_SE2 0 1 1 0 1.5707963267948966 1 0 0 1 0 1\n"
+      "EDGE_SE2 1 2 2 0 0 1 0 0 1 0 1\n"
+      "EDGE_SE2 2 0 0 3 1.5707963267948966 1 0 0 1 0 1\n");
+  EXPECT_TRUE(file.poses_from_odometry);
+  const auto& g = std::get<PoseGraph2>(file.graph);
+  EXPECT_EQ(g.ids(), (std::vector<PoseId>{0, 1, 2}));
+  EXPECT_EQ(g.odometry().size(), 2u);
+  EXPECT_EQ(g.loops().size(), 1u);
+  // Pose 1 one metre ahead facing +y, pose 2 two metres further along +y.
+  EXPECT_NEAR(g.estimates()[1].x(), 1.0, 1e-12);
+  EXPECT_NEAR(g.estimates()[2].x(), 1.0, 1e-12);
+  EXPECT_NEAR(g.estimates()[2].y(), 2.0, 1e-12);
+  EXPECT_FALSE(Parse(kSquare2D).poses_from_odometry);
+}
+
+TEST(G2o, AnInformationMatrixThatIsNotPositiveDefiniteIsRepairedAndListed) {
+  // Eigenvalues of the xy block: 3 ± 5, i.e. 8 and −2.
+  const std::string text =
+      "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+      "EDGE_SE2 0 1 1 0 0 3 5 0 3 0 4\n";
+  const G2oFile file = ParseLeniently(text);
+  ASSERT_EQ(file.repaired_information.size(), 1u);
+  const RepairedInformation& r = file.repaired_information[0];
+  EXPECT_EQ(r.line, 3);
+  EXPECT_EQ(r.from, 0);
+  EXPECT_EQ(r.to, 1);
+  EXPECT_NEAR(r.smallest_eigenvalue, -2.0, 1e-12);
+  const auto& info = std::get<PoseGraph2>(file.graph).odometry()[0].information;
+  EXPECT_EQ(info, info.transpose());
+  const Eigen::Vector3d eigen =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(info).eigenvalues();
+  // The positive eigenvalues stay; the negative one is raised to the floor.
+  EXPECT_NEAR(eigen(0), kLeastInformationRatio * 8.0, 1e-12);
+  EXPECT_NEAR(eigen(1), 4.0, 1e-12);
+  EXPECT_NEAR(eigen(2), 8.0, 1e-12);
+  EXPECT_THAT(ErrorOf(text),
+              HasSubstr("test.g2o:3: information matrix of edge 0 -> 1 is not "
+                        "positive definite"));
+  // Nothing to keep: refused even leniently.
+  try {
+    ParseLeniently(
+        "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+        "EDGE_SE2 0 1 1 0 0 -1 0 0 -1 0 0\n");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("test.g2o:3: information matrix of edge "
+                                    "0 -> 1 has no positive eigenvalue"));
+  }
 }
 
 TEST(G2o, MissingFileIsAnError) {

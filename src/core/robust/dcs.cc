@@ -11,7 +11,7 @@ namespace rrr {
 
 template <class Pose>
 Verdict VerifyWithDcs(const PoseGraph<Pose>& graph, const DcsOptions& options,
-                      std::vector<Pose>* map) {
+                      std::vector<Pose>* map, MinimizeResult* minimized) {
   const auto scale = [&](double chi2) {
     return std::min(1.0, 2.0 * options.phi / (options.phi + chi2));
   };
@@ -35,12 +35,13 @@ Verdict VerifyWithDcs(const PoseGraph<Pose>& graph, const DcsOptions& options,
     accepted[k] = std::sqrt(result.weights[k]) > 0.5;
   }
   if (map) *map = result.estimate;
+  if (minimized) *minimized = result.minimize;
   return VerdictOf(accepted);
 }
 
 template Verdict VerifyWithDcs(const PoseGraph<Pose2>&, const DcsOptions&,
-                               std::vector<Pose2>*);
+                               std::vector<Pose2>*, MinimizeResult*);
 template Verdict VerifyWithDcs(const PoseGraph<Pose3>&, const DcsOptions&,
-                               std::vector<Pose3>*);
+                               std::vector<Pose3>*, MinimizeResult*);
 
 }  // namespace rrr

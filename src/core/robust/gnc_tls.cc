@@ -12,7 +12,8 @@ namespace rrr {
 
 template <class Pose>
 Verdict VerifyWithGncTls(const PoseGraph<Pose>& graph,
-                         const GncTlsOptions& options, std::vector<Pose>* map) {
+                         const GncTlsOptions& options, std::vector<Pose>* map,
+                         MinimizeResult* minimized) {
   const double c2 = ChiSquareQuantile(options.inlier_probability)(Pose::kDof);
   double mu = -1.0;  // set from the first residuals
   const Reweigh reweigh = [&](const std::vector<double>& chi2,
@@ -46,12 +47,13 @@ Verdict VerifyWithGncTls(const PoseGraph<Pose>& graph,
     accepted[k] = result.weights[k] > 0.5;
   }
   if (map) *map = result.estimate;
+  if (minimized) *minimized = result.minimize;
   return VerdictOf(accepted);
 }
 
 template Verdict VerifyWithGncTls(const PoseGraph<Pose2>&, const GncTlsOptions&,
-                                  std::vector<Pose2>*);
+                                  std::vector<Pose2>*, MinimizeResult*);
 template Verdict VerifyWithGncTls(const PoseGraph<Pose3>&, const GncTlsOptions&,
-                                  std::vector<Pose3>*);
+                                  std::vector<Pose3>*, MinimizeResult*);
 
 }  // namespace rrr

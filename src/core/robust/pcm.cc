@@ -9,7 +9,7 @@
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/odometry_chain.h"
 #include "rrr/rrr/chi_square.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -106,7 +106,7 @@ std::vector<int> GreedyClique(const BitGraph& g, int starts) {
 
 template <class Pose>
 Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
-                      std::vector<Pose>* map) {
+                      std::vector<Pose>* map, MinimizeResult* minimized) {
   const OdometryChain<Pose> chain = ChainOf(graph);
   const double gate = ChiSquareQuantile(options.probability)(Pose::kDof);
   std::vector<Link<Pose>> links;
@@ -140,15 +140,15 @@ Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
   }
   Verdict verdict = VerdictOf(accepted);
   if (map) {
-    const GaussNewton<Pose> solver(graph, 1);
-    *map = solver.Optimize(verdict.accepted, ConvergenceOptions());
+    const PoseGraphSolver<Pose> solver(graph, 1);
+    *map = solver.Optimize(verdict.accepted, ConvergenceOptions(), minimized);
   }
   return verdict;
 }
 
 template Verdict VerifyWithPcm(const PoseGraph<Pose2>&, const PcmOptions&,
-                               std::vector<Pose2>*);
+                               std::vector<Pose2>*, MinimizeResult*);
 template Verdict VerifyWithPcm(const PoseGraph<Pose3>&, const PcmOptions&,
-                               std::vector<Pose3>*);
+                               std::vector<Pose3>*, MinimizeResult*);
 
 }  // namespace rrr

@@ -25,9 +25,11 @@ ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
   result.weights.assign(loops, 1.0);
   std::vector<double> weights(odometry + loops, 1.0);
   std::vector<double> loop_chi2(loops);
-  double previous = std::numeric_limits<double>::infinity();
+  TrustRegion region;
+  region.relative_decrease = options.relative_decrease;
   bool settled = false;
-  while (result.iterations < options.max_iterations) {
+  MinimizeResult& minimize = result.minimize;
+  while (minimize.iterations < options.max_iterations) {
     for (size_t k = 0; k < loops; ++k) {
       loop_chi2[k] = EdgeChi2(graph.loops()[k], result.estimate);
     }
@@ -35,15 +37,21 @@ ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
     std::copy(result.weights.begin(), result.weights.end(),
               weights.begin() + static_cast<std::ptrdiff_t>(odometry));
     problem.SetWeights(weights);
-    const double before = problem.Chi2(result.estimate);
-    if (!problem.Step(&result.estimate)) break;
-    ++result.iterations;
-    const double after = problem.Chi2(result.estimate);
-    if (settled && (after >= previous ||
-                    before - after <= options.relative_decrease * after)) {
+    double before = 0.0, after = 0.0;
+    const StepOutcome outcome =
+        problem.StepWithin(&region, &result.estimate, &before, &after);
+    if (minimize.iterations == 0) minimize.initial_chi2 = before;
+    minimize.final_chi2 = after;
+    if (outcome == StepOutcome::kNotSolved) {
+      minimize.solved = false;
       break;
     }
-    previous = after;
+    ++minimize.iterations;
+    if (settled && (outcome == StepOutcome::kNoDecrease ||
+                    before - after <= options.relative_decrease * after)) {
+      minimize.converged = true;
+      break;
+    }
   }
   return result;
 }

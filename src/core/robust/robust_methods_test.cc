@@ -13,7 +13,7 @@
 #include "rrr/robust/dcs.h"
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
-#include "rrr/sim/grid_world.h"
+#include "rrr/sim/simulated_world.h"
 
 namespace rrr {
 namespace {
@@ -28,10 +28,10 @@ struct Named {
 // A grid world whose odometry is the true motion (its information as
 // generated), with its noisy true loops and `false_loops` false ones.
 SimulatedWorld ExactOdometryWorld(int poses, int false_loops) {
-  GridWorldOptions options;
+  WorldOptions options;
   options.poses = poses;
   options.false_loops = false_loops;
-  SimulatedWorld world = SimulateGridWorld(options);
+  SimulatedWorld world = SimulateWorld(options);
   PoseGraph<Pose2> exact;
   for (int p = 0; p < world.graph.num_poses(); ++p) {
     exact.AddPose(world.graph.ids()[p], world.truth[p]);

@@ -6,8 +6,8 @@
 #include <set>
 
 #include "rrr/geometry/pose2.h"
-#include "rrr/sim/grid_world.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/sim/simulated_world.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -16,9 +16,9 @@ struct Outcome {
   int false_accepted = 0, true_accepted = 0, true_total = 0;
 };
 
-Outcome VerifyWorld(const GridWorldOptions& options) {
-  const SimulatedWorld w = SimulateGridWorld(options);
-  GaussNewton<Pose2> solver(w.graph, 4);
+Outcome VerifyWorld(const WorldOptions& options) {
+  const SimulatedWorld w = SimulateWorld(options);
+  PoseGraphSolver<Pose2> solver(w.graph, 4);
   RrrOptions rrr;
   rrr.cluster_window = 10;
   const Verdict v = VerifyBatch(LoopEnds(w.graph), solver, rrr);
@@ -33,7 +33,7 @@ Outcome VerifyWorld(const GridWorldOptions& options) {
 }
 
 TEST(VerifyBatch, RejectsRandomFalseLoopsAndKeepsTrueOnes) {
-  GridWorldOptions options;
+  WorldOptions options;
   options.poses = 1200;
   options.false_loops = 30;
   const Outcome o = VerifyWorld(options);
@@ -42,7 +42,7 @@ TEST(VerifyBatch, RejectsRandomFalseLoopsAndKeepsTrueOnes) {
 }
 
 TEST(VerifyBatch, RejectsGroupedFalseLoops) {
-  GridWorldOptions options;
+  WorldOptions options;
   options.poses = 1200;
   options.false_loops = 20;
   options.group = 5;
@@ -53,13 +53,13 @@ TEST(VerifyBatch, RejectsGroupedFalseLoops) {
 }
 
 TEST(VerifyBatch, NoCandidatesIsTheOdometryChain) {
-  GridWorldOptions options;
+  WorldOptions options;
   options.poses = 200;
   options.false_loops = 0;
   options.loop_probability = 0;
-  const SimulatedWorld w = SimulateGridWorld(options);
+  const SimulatedWorld w = SimulateWorld(options);
   ASSERT_TRUE(w.graph.loops().empty());
-  GaussNewton<Pose2> solver(w.graph, 4);
+  PoseGraphSolver<Pose2> solver(w.graph, 4);
   const Verdict v = VerifyBatch(LoopEnds(w.graph), solver, RrrOptions());
   EXPECT_TRUE(v.accepted.empty());
   EXPECT_TRUE(v.clusters.empty());
@@ -68,13 +68,13 @@ TEST(VerifyBatch, NoCandidatesIsTheOdometryChain) {
 }
 
 TEST(VerifyBatch, DuplicateCandidatesAreBothJudged) {
-  GridWorldOptions options;
+  WorldOptions options;
   options.poses = 600;
   options.false_loops = 0;
-  SimulatedWorld w = SimulateGridWorld(options);
+  SimulatedWorld w = SimulateWorld(options);
   ASSERT_FALSE(w.graph.loops().empty());
   w.graph.AddEdge(w.graph.loops()[0]);  // a duplicate of the first loop
-  GaussNewton<Pose2> solver(w.graph, 4);
+  PoseGraphSolver<Pose2> solver(w.graph, 4);
   RrrOptions rrr;
   const Verdict v = VerifyBatch(LoopEnds(w.graph), solver, rrr);
   const int last = static_cast<int>(w.graph.loops().size()) - 1;
@@ -85,12 +85,12 @@ TEST(VerifyBatch, DuplicateCandidatesAreBothJudged) {
 }
 
 TEST(VerifyBatch, ThreadsDoNotChangeTheDecisions) {
-  GridWorldOptions options;
+  WorldOptions options;
   options.poses = 1500;
   options.false_loops = 60;
   options.seed = 7;
-  const SimulatedWorld w = SimulateGridWorld(options);
-  GaussNewton<Pose2> solver(w.graph, 4);
+  const SimulatedWorld w = SimulateWorld(options);
+  PoseGraphSolver<Pose2> solver(w.graph, 4);
   RrrOptions rrr;
   const Verdict one = VerifyBatch(LoopEnds(w.graph), solver, rrr);
   ASSERT_FALSE(one.accepted.empty());
@@ -111,10 +111,10 @@ TEST(VerifyBatch, ThreadsDoNotChangeTheDecisions) {
 }
 
 TEST(VerifyBatch, RejectsBadOptions) {
-  GridWorldOptions options;
+  WorldOptions options;
   options.poses = 200;
-  const SimulatedWorld w = SimulateGridWorld(options);
-  GaussNewton<Pose2> solver(w.graph, 4);
+  const SimulatedWorld w = SimulateWorld(options);
+  PoseGraphSolver<Pose2> solver(w.graph, 4);
   RrrOptions rrr;
   rrr.alpha = 1.5;
   EXPECT_THROW(VerifyBatch(LoopEnds(w.graph), solver, rrr),

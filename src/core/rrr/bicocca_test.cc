@@ -16,7 +16,7 @@
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
 #include "rrr/rrr/verify_with_map.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -32,7 +32,7 @@ void ExpectFullPrecisionAndReferenceRecall(const std::string& level,
   const auto bicocca = testing::ReadBicocca(level, &missing);
   if (!bicocca) GTEST_SKIP() << missing;
   const PoseGraph2& graph = *bicocca;
-  GaussNewton<Pose2> solver(graph, 4);
+  PoseGraphSolver<Pose2> solver(graph, 4);
   RrrOptions options;
   options.cluster_window = 50;
   options.span_gate = span_gate;
@@ -164,7 +164,7 @@ TEST_P(BicoccaMapProcedureTest, AteWithinATenthOfTheCorrectCandidatesMap) {
                       graph.ids()[graph.loops()[k].to]};
     if (labels.at(key).topological) correct.push_back(static_cast<int>(k));
   }
-  const GaussNewton<Pose2> solver(graph, 4);
+  const PoseGraphSolver<Pose2> solver(graph, 4);
   const auto truth = TruePositions(graph);
   const double ours =
       Ate(solver.Optimize(v.accepted, {}, nullptr, &maintained), truth);

@@ -8,7 +8,7 @@
 #include "rrr/geometry/pose3.h"
 #include "rrr/rrr/batch_verifier.h"
 #include "rrr/rrr/consistency_tests.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 #include "rrr/solver/solve_in_parallel.h"
 
 namespace rrr {
@@ -42,7 +42,8 @@ IncrementalVerifier<Pose>::IncrementalVerifier(const RrrOptions& options)
 template <class Pose>
 std::vector<Pose> IncrementalVerifier<Pose>::Map() {
   if (this->graph().num_poses() == 0) return {};
-  const GaussNewton<Pose> solver(this->graph(), options_.iterations);
+  const PoseGraphSolver<Pose> solver(this->graph(), options_.iterations,
+                                     options_.steps);
   return solver.Optimize(this->AcceptedLoops(), ConvergenceOptions());
 }
 
@@ -65,8 +66,8 @@ std::vector<DecisionChange> IncrementalVerifier<Pose>::Judge(bool finish) {
   if (ready == judged_) return {};
   judged_ = ready;
 
-  GaussNewton<Pose> gauss_newton(graph, options_.iterations);
-  CountingSolver solver(gauss_newton);
+  PoseGraphSolver<Pose> base_solver(graph, options_.iterations, options_.steps);
+  CountingSolver solver(base_solver);
   const int e = solver.residual_dim();
   const int odometry = static_cast<int>(graph.odometry().size());
   std::vector<std::vector<int>> unsolved;

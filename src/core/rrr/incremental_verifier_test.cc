@@ -13,8 +13,8 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/batch_verifier.h"
-#include "rrr/sim/grid_world.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/sim/simulated_world.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -23,7 +23,7 @@ using testing::Pairs;
 using Replay = testing::Replay<IncrementalVerifier<Pose2>, Pose2>;
 
 Pairs BatchAccepted(const PoseGraph<Pose2>& graph, const RrrOptions& options) {
-  GaussNewton<Pose2> solver(graph, options.iterations);
+  PoseGraphSolver<Pose2> solver(graph, options.iterations);
   const Verdict v = VerifyBatch(LoopEnds(graph), solver, options);
   Pairs out;
   for (const int k : v.accepted) {
@@ -34,11 +34,11 @@ Pairs BatchAccepted(const PoseGraph<Pose2>& graph, const RrrOptions& options) {
 }
 
 TEST(IncrementalVerifier, EndsWithTheBatchDecisionsOnASpoiledWorld) {
-  GridWorldOptions world;
+  WorldOptions world;
   world.poses = 1500;
   world.false_loops = 40;
   world.group = 4;
-  const SimulatedWorld w = SimulateGridWorld(world);
+  const SimulatedWorld w = SimulateWorld(world);
   RrrOptions options;
   const Replay replay(w.graph, options);
   EXPECT_EQ(replay.verifier.num_waiting(), 0);

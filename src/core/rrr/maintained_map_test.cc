@@ -6,7 +6,7 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/solver/edge_error.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -17,7 +17,7 @@ const ConvergenceOptions kTight{50, 1e-12};
 template <class Pose>
 double WholeGraphMinimum(const PoseGraph<Pose>& graph,
                          const std::vector<int>& loops) {
-  const GaussNewton<Pose> solver(graph, 1);
+  const PoseGraphSolver<Pose> solver(graph, 1);
   const std::vector<Pose> x = solver.Optimize(loops, kTight);
   return solver.Evaluate(loops, x).total_chi2;
 }
@@ -71,7 +71,7 @@ TYPED_TEST(MaintainedMapTest, EstimatesAreNearTheWholeGraphsOptimum) {
   const std::vector<int> loops = {0, 1, 2, 3, 4, 5, 6};
   map.Add(loops, 100, 1e-12);
   map.Optimize();
-  const GaussNewton<TypeParam> solver(graph, 1);
+  const PoseGraphSolver<TypeParam> solver(graph, 1);
   const std::vector<TypeParam> optimum = solver.Optimize(loops, kTight);
   const std::vector<TypeParam> estimates = map.Estimates();
   ASSERT_EQ(estimates.size(), optimum.size());

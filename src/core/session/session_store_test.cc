@@ -15,7 +15,7 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/rrr/map_verifier.h"
-#include "rrr/sim/grid_world.h"
+#include "rrr/sim/simulated_world.h"
 
 namespace rrr {
 namespace {
@@ -31,11 +31,11 @@ class SessionStoreTest : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     path_ = (dir_ / "session.db").string();
-    GridWorldOptions options;
+    WorldOptions options;
     options.poses = 700;
     options.false_loops = 20;
     options.group = 2;
-    world_ = SimulateGridWorld(options);
+    world_ = SimulateWorld(options);
   }
   void TearDown() override { fs::remove_all(dir_); }
 

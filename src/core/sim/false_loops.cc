@@ -42,6 +42,38 @@ Pose3 RandomMeasurement(std::mt19937_64& rng, const Pose3*) {
   return Pose3(q, translation);
 }
 
+// A unit vector of dimension D, uniformly distributed.
+template <int D>
+Eigen::Matrix<double, D, 1> RandomDirection(std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Matrix<double, D, 1> v;
+  do {
+    for (int k = 0; k < D; ++k) v[k] = normal(rng);
+  } while (v.norm() < 1e-9);
+  return v.normalized();
+}
+
+// A look-alike measurement: the translation uniform in the ball of radius
+// `translation`, the rotation angle uniform up to `rotation` about a random
+// axis.
+Pose2 LookAlikeMeasurement(std::mt19937_64& rng, double translation,
+                           double rotation, const Pose2*) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Eigen::Vector2d t =
+      translation * std::sqrt(u(rng)) * RandomDirection<2>(rng);
+  return Pose2(t.x(), t.y(), rotation * (2.0 * u(rng) - 1.0));
+}
+
+Pose3 LookAlikeMeasurement(std::mt19937_64& rng, double translation,
+                           double rotation, const Pose3*) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Eigen::Vector3d t =
+      translation * std::cbrt(u(rng)) * RandomDirection<3>(rng);
+  const Eigen::Vector3d axis = RandomDirection<3>(rng);
+  return Pose3(Eigen::Quaterniond(Eigen::AngleAxisd(rotation * u(rng), axis)),
+               t);
+}
+
 // Whether a link (i + k, j + k), k < `links`, with `measurement` is correct
 // at the poses `truth` by kMetricRule.
 template <class Pose>
@@ -59,6 +91,11 @@ std::string FalseLoopOptions::Validate(int num_poses) const {
   if (count < 0) return "the number of false loops must not be negative";
   if (group < 1) return "the group size must be at least 1";
   if (local_range < 2) return "the local range must be at least 2";
+  if (local && look_alike) return "false loops are local or look-alike";
+  if (look_alike_gap < 2) return "the look-alike gap must be at least 2";
+  if (!(look_alike_translation >= 0 && look_alike_rotation >= 0)) {
+    return "the look-alike bounds must not be negative";
+  }
   if (num_poses < group + 3) {
     return "the graph has too few poses (" + std::to_string(num_poses) +
            ") for groups of " + std::to_string(group);
@@ -116,11 +153,18 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
     const int i = any(rng);
     const int j = options.local ? i + offset(rng) : any(rng);
     if (j < 0 || j >= last_start || std::abs(i - j) <= 1) continue;
+    if (options.look_alike && std::abs(i - j) < options.look_alike_gap) {
+      continue;
+    }
     if (!group_fits(i, j)) continue;
     // One measurement for the whole group: its links agree with each other
     // like a real revisit's.
+    const Pose* kind = nullptr;
     const Pose measurement =
-        RandomMeasurement(rng, static_cast<const Pose*>(nullptr));
+        options.look_alike
+            ? LookAlikeMeasurement(rng, options.look_alike_translation,
+                                   options.look_alike_rotation, kind)
+            : RandomMeasurement(rng, kind);
     const int links =
         std::min(options.group, options.count - static_cast<int>(added.size()));
     if (reference && AnyLinkCorrect(*reference, i, j, links, measurement)) {

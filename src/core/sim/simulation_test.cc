@@ -9,7 +9,7 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/sim/false_loops.h"
-#include "rrr/sim/grid_world.h"
+#include "rrr/sim/simulated_world.h"
 
 namespace rrr {
 namespace {
@@ -163,11 +163,11 @@ TEST(AddFalseLoops, Works3DAndRejectsBadOptions) {
   EXPECT_THROW(AddFalseLoops(&g, options), std::invalid_argument);
 }
 
-TEST(SimulateGridWorld, OdometryIsNoisyTruthAndLoopsAreTrue) {
-  GridWorldOptions options;
+TEST(SimulateWorld, OdometryIsNoisyTruthAndLoopsAreTrue) {
+  WorldOptions options;
   options.poses = 600;
   options.false_loops = 10;
-  const SimulatedWorld w = SimulateGridWorld(options);
+  const SimulatedWorld w = SimulateWorld(options);
   EXPECT_EQ(w.graph.num_poses(), 600);
   EXPECT_EQ(w.graph.CheckChain(), "");
   EXPECT_EQ(w.false_loops.size(), 10u);
@@ -179,7 +179,7 @@ TEST(SimulateGridWorld, OdometryIsNoisyTruthAndLoopsAreTrue) {
         w.truth[l.from].between(w.truth[l.to]).between(l.measurement);
     EXPECT_LT(err.translation().norm(), 0.2);
   }
-  EXPECT_EQ(SimulateGridWorld(options).graph.loops()[3].from,
+  EXPECT_EQ(SimulateWorld(options).graph.loops()[3].from,
             w.graph.loops()[3].from);
 }
 

@@ -127,7 +127,7 @@ BlockCholesky<D>::BlockCholesky(
   common_->supernodal = CHOLMOD_AUTO;
   common_->supernodal_switch = 200;
   SetZero();
-  for (int b = 0; b < num_blocks; ++b) AddDiagonal(b, Block::Identity());
+  for (int b = 0; b < num_blocks; ++b) SetDiagonal(b, Block::Identity());
   factor_ = cholmod_analyze(matrix_, common_.get());
   if (!factor_) throw std::runtime_error("CHOLMOD analysis failed");
   rhs_ = Eigen::VectorXd(n);
@@ -159,11 +159,11 @@ void BlockCholesky<D>::SetZero() {
 }
 
 template <int D>
-void BlockCholesky<D>::AddDiagonal(int block, const Block& m) {
+void BlockCholesky<D>::SetDiagonal(int block, const Block& m) {
   auto* x = static_cast<double*>(matrix_->x);
   const Slot& s = slots_[position_[block]];
   for (int k = 0; k < D; ++k) {
-    for (int a = 0; a <= k; ++a) x[s.start[k] + a] += m(a, k);
+    for (int a = 0; a <= k; ++a) x[s.start[k] + a] = m(a, k);
   }
 }
 

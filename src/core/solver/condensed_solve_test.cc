@@ -5,7 +5,7 @@
 #include "../testing/noisy_chain.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -24,7 +24,7 @@ TYPED_TEST(CondensedSolveTest, MatchesTheWholeChainSolvedToConvergence) {
       SolveCondensed(graph, chain, loops, ConvergenceOptions());
   EXPECT_TRUE(condensed.minimize.converged);
   // The whole chain, every pose a variable, 30 Gauss–Newton iterations.
-  GaussNewton<TypeParam> whole(graph, 30);
+  PoseGraphSolver<TypeParam> whole(graph, 30);
   const SubsetErrors full = whole.Solve(loops);
   // Exact for a linear chain; here the condensed edges are first-order.
   EXPECT_NEAR(condensed.errors.total_chi2, full.total_chi2,

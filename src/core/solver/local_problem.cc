@@ -1,5 +1,6 @@
 #include "rrr/solver/local_problem.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "rrr/geometry/pose2.h"
@@ -44,59 +45,155 @@ void LocalProblem<Pose>::SetWeights(std::vector<double> weights) {
 }
 
 template <class Pose>
-bool LocalProblem<Pose>::Step(std::vector<Pose>* x) {
-  if (free_.empty()) return true;
+double LocalProblem<Pose>::Linearize(const std::vector<Pose>& x) {
   system_->SetZero();
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(num_free() * D);
+  diagonal_.assign(free_.size(), Block::Zero());
+  rhs_ = Eigen::VectorXd::Zero(num_free() * D);
+  double chi2 = 0.0;
   for (size_t k = 0; k < edges_.size(); ++k) {
     const Edge& edge = *edges_[k];
     const Slots& s = slots_[k];
     typename Pose::Jacobian ji, jj;
     const typename Pose::Tangent r = EdgeResidualAndJacobians(
-        edge.measurement, (*x)[edge.from], (*x)[edge.to], &ji, &jj);
+        edge.measurement, x[edge.from], x[edge.to], &ji, &jj);
     const double w = weights_.empty() ? 1.0 : weights_[k];
-    const typename Pose::Jacobian wi = w * ji.transpose() * edge.information;
-    const typename Pose::Jacobian wj = w * jj.transpose() * edge.information;
+    chi2 += w * r.dot(edge.information * r);
+    const Block wi = w * ji.transpose() * edge.information;
+    const Block wj = w * jj.transpose() * edge.information;
     if (s.from >= 0) {
-      system_->AddDiagonal(s.from, wi * ji);
-      rhs.template segment<D>(s.from * D) -= wi * r;
+      diagonal_[s.from] += wi * ji;
+      rhs_.template segment<D>(s.from * D) -= wi * r;
     }
     if (s.to >= 0) {
-      system_->AddDiagonal(s.to, wj * jj);
-      rhs.template segment<D>(s.to * D) -= wj * r;
+      diagonal_[s.to] += wj * jj;
+      rhs_.template segment<D>(s.to * D) -= wj * r;
     }
     if (s.off_diagonal >= 0) {
       system_->AddOffDiagonal(s.off_diagonal, s.from, s.to, wi * jj);
     }
   }
-  Eigen::VectorXd delta;
-  if (!system_->Solve(rhs, &delta)) return false;
+  // The damping's scaling: diag(H), floored where no edge constrains a
+  // coordinate.
+  double largest = 0.0;
+  for (const Block& block : diagonal_) {
+    largest = std::max(largest, block.diagonal().maxCoeff());
+  }
+  scaling_.resize(num_free() * D);
+  for (size_t b = 0; b < free_.size(); ++b) {
+    scaling_.template segment<D>(b * D) =
+        diagonal_[b].diagonal().cwiseMax(1e-12 * largest);
+  }
+  return chi2;
+}
+
+template <class Pose>
+bool LocalProblem<Pose>::SolveDamped(double damping, Eigen::VectorXd* delta) {
+  for (size_t b = 0; b < free_.size(); ++b) {
+    Block damped = diagonal_[b];
+    damped.diagonal() += damping * scaling_.template segment<D>(b * D);
+    system_->SetDiagonal(static_cast<int>(b), damped);
+  }
+  return system_->Solve(rhs_, delta);
+}
+
+template <class Pose>
+void LocalProblem<Pose>::Retract(const Eigen::VectorXd& delta,
+                                 std::vector<Pose>* x) const {
   for (size_t b = 0; b < free_.size(); ++b) {
     Pose& p = (*x)[free_[b]];
     p = p * Pose::Exp(delta.template segment<D>(b * D));
   }
+}
+
+template <class Pose>
+bool LocalProblem<Pose>::Step(std::vector<Pose>* x) {
+  if (free_.empty()) return true;
+  Linearize(*x);
+  Eigen::VectorXd delta;
+  if (!SolveDamped(0.0, &delta)) return false;
+  Retract(delta, x);
   return true;
+}
+
+template <class Pose>
+StepOutcome LocalProblem<Pose>::StepWithin(TrustRegion* region,
+                                           std::vector<Pose>* x,
+                                           double* chi2_before,
+                                           double* chi2_after) {
+  // Each failure multiplies the damping by a growth that doubles: after
+  // kMaxTries it has grown by 2^(kMaxTries·(kMaxTries+1)/2) from where it
+  // started, far beyond any useful step.
+  constexpr int kMaxTries = 12;
+  *chi2_before = *chi2_after = free_.empty() ? Chi2(*x) : Linearize(*x);
+  if (free_.empty()) return StepOutcome::kNoDecrease;
+  const double chi2 = *chi2_before;
+  const auto raise = [region] {
+    region->damping = region->damping > 0.0 ? region->damping * region->growth
+                                            : TrustRegion::kFirstDamping;
+    region->growth *= 2.0;
+  };
+  Eigen::VectorXd delta;
+  std::vector<Pose> saved(free_.size());
+  bool solved_any = false;
+  for (int tries = 0; tries < kMaxTries; ++tries) {
+    const double damping = region->damping;
+    if (!SolveDamped(damping, &delta)) {
+      raise();
+      continue;
+    }
+    solved_any = true;
+    // The decrease the linear model predicts for δ: with
+    // (H + λS) δ = rhs it is 2 rhsᵀδ − δᵀHδ = rhsᵀδ + λ δᵀSδ.
+    const double predicted =
+        delta.dot(rhs_) + damping * delta.dot(scaling_.cwiseProduct(delta));
+    if (!(predicted > region->relative_decrease * chi2)) {
+      return StepOutcome::kNoDecrease;
+    }
+    for (size_t b = 0; b < free_.size(); ++b) saved[b] = (*x)[free_[b]];
+    Retract(delta, x);
+    const double after = Chi2(*x);
+    const double gain = (chi2 - after) / predicted;
+    if (gain > 1e-3) {  // Ceres's least acceptable gain ratio
+      *chi2_after = after;
+      if (damping > 0.0) {  // Nielsen's update
+        const double c = 2.0 * gain - 1.0;
+        region->damping *= std::max(1.0 / 3.0, 1.0 - c * c * c);
+        if (region->damping < TrustRegion::kLeastDamping) {
+          region->damping = 0.0;
+        }
+      }
+      region->growth = 2.0;
+      return StepOutcome::kTaken;
+    }
+    for (size_t b = 0; b < free_.size(); ++b) (*x)[free_[b]] = saved[b];
+    raise();
+  }
+  return solved_any ? StepOutcome::kNoDecrease : StepOutcome::kNotSolved;
 }
 
 template <class Pose>
 MinimizeResult LocalProblem<Pose>::Minimize(std::vector<Pose>* x,
                                             const ConvergenceOptions& options) {
   MinimizeResult result;
-  result.initial_chi2 = result.final_chi2 = Chi2(*x);
-  std::vector<Pose> saved(free_.size());
+  if (options.max_iterations <= 0) {
+    result.initial_chi2 = result.final_chi2 = Chi2(*x);
+  }
+  TrustRegion region;
+  region.relative_decrease = options.relative_decrease;
   while (result.iterations < options.max_iterations) {
-    for (size_t b = 0; b < free_.size(); ++b) saved[b] = (*x)[free_[b]];
-    if (!Step(x)) {
+    double before = 0.0, chi2 = 0.0;
+    const StepOutcome outcome = StepWithin(&region, x, &before, &chi2);
+    if (result.iterations == 0)
+      result.initial_chi2 = result.final_chi2 = before;
+    if (outcome == StepOutcome::kNotSolved) {
       result.solved = false;
       return result;
     }
-    ++result.iterations;
-    const double chi2 = Chi2(*x);
-    if (!(chi2 <= result.final_chi2)) {  // diverging: keep the best estimate
-      for (size_t b = 0; b < free_.size(); ++b) (*x)[free_[b]] = saved[b];
+    if (outcome == StepOutcome::kNoDecrease) {
       result.converged = true;
       return result;
     }
+    ++result.iterations;
     const double decrease = result.final_chi2 - chi2;
     result.final_chi2 = chi2;
     if (decrease <= options.relative_decrease * chi2) {

@@ -1,4 +1,4 @@
-#include "rrr/solver/gauss_newton.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 #include <algorithm>
 #include <limits>
@@ -12,22 +12,22 @@
 namespace rrr {
 
 template <class Pose>
-GaussNewton<Pose>::GaussNewton(const PoseGraph<Pose>& graph, int iterations)
+PoseGraphSolver<Pose>::PoseGraphSolver(const PoseGraph<Pose>& graph,
+                                       int iterations, SolveSteps steps)
     : graph_(graph),
       iterations_(iterations),
+      steps_(steps),
       initial_(graph.ComposeOdometry()) {
   for (const int k : graph.fixed()) last_fixed_ = std::max(last_fixed_, k);
 }
 
 template <class Pose>
-bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
-                            int max_iterations,
-                            const ConvergenceOptions* options,
-                            std::vector<Pose>* x, int* iterations_run,
-                            int* spanned_edges,
-                            const std::vector<Pose>* start) const {
+bool PoseGraphSolver<Pose>::Run(const std::vector<int>& active_loops,
+                                const ConvergenceOptions* options,
+                                std::vector<Pose>* x, MinimizeResult* minimized,
+                                int* spanned_edges,
+                                const std::vector<Pose>* start) const {
   *x = start ? *start : initial_;
-  if (iterations_run) *iterations_run = 0;
   if (spanned_edges) *spanned_edges = 0;
   // The stretch of chain that the active loops (and fixed poses) span. The
   // chain after it hangs free and follows odometry with zero error. The
@@ -42,7 +42,10 @@ bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
     first = std::min({first, loop.from, loop.to});
     last = std::max({last, loop.from, loop.to});
   }
-  if (last <= first) return true;
+  if (last <= first) {
+    if (minimized) minimized->converged = true;
+    return true;
+  }
   std::vector<int> free;
   std::vector<bool> fixed(last - first + 1, false);
   fixed[0] = true;
@@ -62,15 +65,20 @@ bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
   if (spanned_edges) *spanned_edges = static_cast<int>(edges.size());
   LocalProblem<Pose> problem(graph_.num_poses(), free, std::move(edges));
   if (options) {
-    ConvergenceOptions limited = *options;
-    limited.max_iterations = max_iterations;
-    const MinimizeResult result = problem.Minimize(x, limited);
-    if (iterations_run) *iterations_run = result.iterations;
-    if (!result.solved) return false;
-  } else {
-    for (int it = 0; it < max_iterations; ++it) {
+    *minimized = problem.Minimize(x, *options);
+    if (!minimized->solved) return false;
+  } else if (steps_ == SolveSteps::kGaussNewton) {
+    for (int it = 0; it < iterations_; ++it) {
       if (!problem.Step(x)) return false;
-      if (iterations_run) ++*iterations_run;
+    }
+  } else {
+    TrustRegion region;
+    for (int it = 0; it < iterations_; ++it) {
+      double before = 0.0, after = 0.0;
+      const StepOutcome outcome =
+          problem.StepWithin(&region, x, &before, &after);
+      if (outcome == StepOutcome::kNotSolved) return false;
+      if (outcome == StepOutcome::kNoDecrease) break;
     }
   }
   // The free end of the chain follows its last constrained pose.
@@ -81,8 +89,8 @@ bool GaussNewton<Pose>::Run(const std::vector<int>& active_loops,
 }
 
 template <class Pose>
-SubsetErrors GaussNewton<Pose>::Evaluate(const std::vector<int>& active_loops,
-                                         const std::vector<Pose>& x) const {
+SubsetErrors PoseGraphSolver<Pose>::Evaluate(
+    const std::vector<int>& active_loops, const std::vector<Pose>& x) const {
   SubsetErrors out;
   for (const auto& e : graph_.odometry()) out.total_chi2 += EdgeChi2(e, x);
   out.loop_chi2.reserve(active_loops.size());
@@ -96,10 +104,11 @@ SubsetErrors GaussNewton<Pose>::Evaluate(const std::vector<int>& active_loops,
 }
 
 template <class Pose>
-SubsetErrors GaussNewton<Pose>::Solve(const std::vector<int>& active_loops) {
+SubsetErrors PoseGraphSolver<Pose>::Solve(
+    const std::vector<int>& active_loops) {
   std::vector<Pose> x;
   int spanned_edges = 0;
-  if (!Run(active_loops, iterations_, nullptr, &x, nullptr, &spanned_edges)) {
+  if (!Run(active_loops, nullptr, &x, nullptr, &spanned_edges)) {
     SubsetErrors failed;
     failed.solved = false;
     failed.num_edges =
@@ -115,16 +124,24 @@ SubsetErrors GaussNewton<Pose>::Solve(const std::vector<int>& active_loops) {
 }
 
 template <class Pose>
-std::vector<Pose> GaussNewton<Pose>::Optimize(
+std::vector<Pose> PoseGraphSolver<Pose>::Optimize(
     const std::vector<int>& active_loops, const ConvergenceOptions& options,
-    int* iterations_run, const std::vector<Pose>* start) const {
+    MinimizeResult* result, const std::vector<Pose>* start) const {
   std::vector<Pose> x;
-  Run(active_loops, options.max_iterations, &options, &x, iterations_run,
-      nullptr, start);
+  MinimizeResult minimized;
+  Run(active_loops, &options, &x, &minimized, nullptr, start);
+  if (result) {
+    // The local problem's errors leave out the edges outside it; give the
+    // whole graph's.
+    *result = minimized;
+    result->initial_chi2 =
+        Evaluate(active_loops, start ? *start : initial_).total_chi2;
+    result->final_chi2 = Evaluate(active_loops, x).total_chi2;
+  }
   return x;
 }
 
-template class GaussNewton<Pose2>;
-template class GaussNewton<Pose3>;
+template class PoseGraphSolver<Pose2>;
+template class PoseGraphSolver<Pose3>;
 
 }  // namespace rrr

@@ -1,6 +1,7 @@
-// A built-in synthetic world: a robot driving the streets of a grid city.
-#ifndef RRR_SIM_GRID_WORLD_H_
-#define RRR_SIM_GRID_WORLD_H_
+// Built-in synthetic worlds: a robot driving the streets of a grid city,
+// around a ring, or along a straight road.
+#ifndef RRR_SIM_SIMULATED_WORLD_H_
+#define RRR_SIM_SIMULATED_WORLD_H_
 
 #include <cstdint>
 #include <string>
@@ -11,11 +12,29 @@
 
 namespace rrr {
 
-struct GridWorldOptions {
+// Where the robot drives, in steps of 1 m.
+enum class Layout {
+  // The streets of a grid city, turning at random at crossings: revisits
+  // everywhere.
+  kGrid,
+  // Around a circle of `ring` poses and on past its start: every revisit
+  // closes the one place where the laps overlap.
+  kRing,
+  // Straight on: no place is seen twice, so every loop candidate is false.
+  kLine,
+};
+const char* ToString(Layout layout);
+// Parses "grid", "ring" or "line"; returns false for anything else.
+bool ParseLayout(const std::string& name, Layout* layout);
+
+struct WorldOptions {
+  Layout layout = Layout::kGrid;
   int poses = 3000;
-  // Streets every `block` steps of 1 m; the city is `blocks` × `blocks`.
+  // Grid: streets every `block` steps; the city is `blocks` × `blocks`.
   int block = 8;
   int blocks = 6;
+  // Ring: poses per lap.
+  int ring = 200;
   // Odometry noise per step (standard deviations, m and rad).
   double translation_noise = 0.02;
   double rotation_noise = 0.005;
@@ -41,8 +60,8 @@ struct SimulatedWorld {
 
 // Simulates the world. Same options, same world. Throws
 // std::invalid_argument if the options do not validate.
-SimulatedWorld SimulateGridWorld(const GridWorldOptions& options);
+SimulatedWorld SimulateWorld(const WorldOptions& options);
 
 }  // namespace rrr
 
-#endif  // RRR_SIM_GRID_WORLD_H_
+#endif  // RRR_SIM_SIMULATED_WORLD_H_

@@ -1,16 +1,18 @@
-// Sparse Gauss–Newton over a pose graph with a subset of its loops active.
-#ifndef RRR_SOLVER_GAUSS_NEWTON_H_
-#define RRR_SOLVER_GAUSS_NEWTON_H_
+// The sparse least-squares solver of a pose graph with a subset of its loops
+// active: RRR's fixed-iteration consistency solves and minimization to
+// convergence.
+#ifndef RRR_SOLVER_POSE_GRAPH_SOLVER_H_
+#define RRR_SOLVER_POSE_GRAPH_SOLVER_H_
 
 #include <vector>
 
 #include "rrr/graph/pose_graph.h"
 #include "rrr/solver/consistency_solver.h"
-#include "rrr/solver/local_problem.h"
+#include "rrr/solver/convergence.h"
 
 namespace rrr {
 
-// Gauss–Newton on the sparse normal equations (CHOLMOD), with the first pose
+// Least squares on the sparse normal equations (CHOLMOD), with the first pose
 // (and any pose the graph marks fixed) held fixed.
 //
 // Each solve sets up only the problem its active loops make: the stretch of
@@ -23,21 +25,25 @@ namespace rrr {
 // Solve() and Optimize() do not modify the solver and may run concurrently.
 // The graph must outlive the solver and must not change while it exists.
 template <class Pose>
-class GaussNewton : public ConsistencySolver {
+class PoseGraphSolver : public ConsistencySolver {
  public:
-  // `iterations` is k, the number of iterations of each consistency Solve().
-  GaussNewton(const PoseGraph<Pose>& graph, int iterations);
+  // `iterations` is k, the number of iterations of each consistency Solve(),
+  // taken as `steps` says.
+  PoseGraphSolver(const PoseGraph<Pose>& graph, int iterations,
+                  SolveSteps steps = SolveSteps::kGaussNewton);
 
   SubsetErrors Solve(const std::vector<int>& active_loops) override;
   int residual_dim() const override { return Pose::kDof; }
 
-  // Runs Gauss–Newton with odometry and `active_loops` until it converges,
-  // from `start` (an estimate of every pose) if given, else from the
-  // odometry initial estimate; returns the estimates of every pose and sets
-  // `*iterations_run` if given.
+  // Minimizes the error of odometry and `active_loops` with
+  // Levenberg–Marquardt (LocalProblem::Minimize) from `start` (an estimate of
+  // every pose) if given, else from the odometry initial estimate; returns
+  // the estimates of every pose and, in `*result` if given, whether it
+  // converged within `options`, its iterations and its initial and final
+  // error (of the whole graph's odometry and `active_loops`).
   std::vector<Pose> Optimize(const std::vector<int>& active_loops,
                              const ConvergenceOptions& options,
-                             int* iterations_run = nullptr,
+                             MinimizeResult* result = nullptr,
                              const std::vector<Pose>* start = nullptr) const;
 
   // The odometry chain every solve starts from.
@@ -47,22 +53,23 @@ class GaussNewton : public ConsistencySolver {
                         const std::vector<Pose>& x) const;
 
  private:
-  // Runs up to `max_iterations` steps from `start` (default: the odometry
-  // initial estimate); stops early when
-  // `options` is given and the error stops decreasing. Sets `*spanned_edges`
-  // (see SubsetErrors) if given. Returns false if the linear system could not
-  // be solved.
-  bool Run(const std::vector<int>& active_loops, int max_iterations,
+  // From `start` (default: the odometry initial estimate): with `options`,
+  // minimizes (Levenberg–Marquardt) within them and sets `*minimized`; else
+  // takes k iterations as `steps_` says. Sets `*spanned_edges` (see
+  // SubsetErrors) if given. Returns false if the linear system could not be
+  // solved.
+  bool Run(const std::vector<int>& active_loops,
            const ConvergenceOptions* options, std::vector<Pose>* x,
-           int* iterations_run, int* spanned_edges = nullptr,
+           MinimizeResult* minimized, int* spanned_edges = nullptr,
            const std::vector<Pose>* start = nullptr) const;
 
   const PoseGraph<Pose>& graph_;
   int iterations_;
+  SolveSteps steps_;
   std::vector<Pose> initial_;
   int last_fixed_ = 0;  // the last pose held fixed
 };
 
 }  // namespace rrr
 
-#endif  // RRR_SOLVER_GAUSS_NEWTON_H_
+#endif  // RRR_SOLVER_POSE_GRAPH_SOLVER_H_
