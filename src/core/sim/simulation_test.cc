@@ -44,6 +44,52 @@ TEST(AddFalseLoops, AddsNonOdometryLoopsReproducibly) {
   EXPECT_TRUE(a.odometry().size() == 199u);
 }
 
+TEST(AddFalseLoops, LookAlikeLoopsJoinDistantPosesWithANearIdentity) {
+  auto g = Chain(300);
+  FalseLoopOptions options;
+  options.count = 60;
+  options.look_alike = true;
+  AddFalseLoops(&g, options);
+  ASSERT_EQ(g.loops().size(), 60u);
+  for (const auto& loop : g.loops()) {
+    EXPECT_GE(std::abs(loop.from - loop.to), options.look_alike_gap);
+    EXPECT_LE(loop.measurement.translation().norm(), 2.0);
+    EXPECT_LE(std::abs(loop.measurement.theta()), 0.5);
+  }
+  // Bounds of zero: the identity, what a junk stream reports.
+  auto junk = Chain(300);
+  options.look_alike_translation = options.look_alike_rotation = 0.0;
+  AddFalseLoops(&junk, options);
+  for (const auto& loop : junk.loops()) {
+    EXPECT_EQ(loop.measurement.Log().norm(), 0.0);
+  }
+  options.local = true;
+  EXPECT_THROW(AddFalseLoops(&junk, options), std::invalid_argument);
+}
+
+TEST(SimulateWorld, TheRingClosesOnePlaceAndTheLineNone) {
+  WorldOptions options;
+  options.layout = Layout::kRing;
+  options.ring = 200;
+  options.poses = 300;
+  options.false_loops = 0;
+  const SimulatedWorld ring = SimulateWorld(options);
+  ASSERT_GT(ring.graph.loops().size(), 20u);
+  for (const auto& loop : ring.graph.loops()) {
+    // Every revisit: a pose of the second lap and the same point of the
+    // first, where the true poses coincide.
+    EXPECT_EQ(std::abs(loop.from - loop.to), options.ring);
+    EXPECT_LT(ring.truth[loop.from].between(ring.truth[loop.to]).Log().norm(),
+              1e-9);
+  }
+  options.layout = Layout::kLine;
+  EXPECT_TRUE(SimulateWorld(options).graph.loops().empty());
+  Layout parsed;
+  EXPECT_TRUE(ParseLayout("ring", &parsed));
+  EXPECT_EQ(parsed, Layout::kRing);
+  EXPECT_FALSE(ParseLayout("circle", &parsed));
+}
+
 TEST(AddFalseLoops, LocalAndGroupedVariants) {
   auto g = Chain(300);
   FalseLoopOptions options;
