@@ -68,20 +68,28 @@ TYPED_TEST(OdometryNoiseTest, AConstantCovarianceFallsBackToTheMotion) {
 }
 
 TYPED_TEST(OdometryNoiseTest, ANumericallySingularChangeFallsBackToTheMotion) {
-  // A change that passes a Cholesky test but whose inverse overflows.
+  // Two changes that are positive definite (each passes a Cholesky test) but
+  // numerically singular: the inverse of one would overflow, the other's
+  // condition number is 10^20 (both fail the reciprocal-condition test).
   using Model = OdometryNoiseModel<TypeParam>;
   const auto per_unit = Constraint<TypeParam>::Information::Identity() * 100.0;
   const Model model(per_unit, 0.05);
-  const OdometryCovariance grown = OdometryCovariance::Identity() * 1e-310;
   typename TypeParam::Tangent xi = TypeParam::Tangent::Zero();
   xi[0] = 2.0;
-  typename Model::Source source;
-  const auto information =
-      model.EdgeInformation(TypeParam(), OdometryCovariance::Identity(),
-                            TypeParam::Exp(xi), grown, true, &source);
-  EXPECT_EQ(source, Model::Source::kMotion);
-  EXPECT_TRUE(information.allFinite());
-  EXPECT_EQ(information.llt().info(), Eigen::Success);
+  const OdometryCovariance none = OdometryCovariance::Zero();
+  OdometryCovariance ill = OdometryCovariance::Identity();
+  ill(5, 5) = 1e-20;  // rz: a coordinate of both 2D and 3D poses
+  for (const OdometryCovariance& grown :
+       {OdometryCovariance(OdometryCovariance::Identity() * 1e-310), ill}) {
+    ASSERT_EQ(grown.llt().info(), Eigen::Success);
+    typename Model::Source source;
+    const auto information = model.EdgeInformation(
+        TypeParam(), none, TypeParam::Exp(xi), grown, true, &source);
+    EXPECT_EQ(source, Model::Source::kMotion) << grown(5, 5);
+    EXPECT_TRUE(information.allFinite());
+    EXPECT_EQ(information.llt().info(), Eigen::Success);
+    EXPECT_LT((information - per_unit / 2.0).norm(), 1e-9);
+  }
 }
 
 TYPED_TEST(OdometryNoiseTest, AVeryLongMotionStillHasFiniteInformation) {
