@@ -4,7 +4,9 @@ A flood: 100,000 loop candidates as fast as a publisher can send them, mixed
 from every kind a misbehaving front-end sends, beside 100 Hz odometry. The
 node's resident memory stays under MEMORY_BOUND_MB and ~get_status accounts
 for every message: received = processed + refused, and every candidate is a
-candidate, waiting, invalid, skipped or refused under its reason.
+candidate, waiting, invalid, skipped or refused under its reason. Its valid
+candidates are a junk stream (no revisit on a straight road): none is
+accepted.
 
 A fast replay: a bag played at 100 times its speed loses no input and gives
 the decisions of rrr verify; on a generated world always, and on Bicocca 25b
@@ -97,7 +99,8 @@ def flood(ros):
 
 
 def test_a_flood_is_bounded_in_memory_and_every_message_is_accounted_for(ros_factory):
-    sent, final, peak = flood(ros_factory())
+    ros = ros_factory()
+    sent, final, peak = flood(ros)
     assert peak <= MEMORY_BOUND_MB
     # With the default queue limit nothing is refused at the queue, and every
     # candidate message is under one heading: a candidate (judged or waiting
@@ -113,6 +116,15 @@ def test_a_flood_is_bounded_in_memory_and_every_message_is_accounted_for(ros_fac
                  "refused_too_far_ahead", "refused_waiting_full", "waiting_by_stamp"):
         assert int(final[name]) > 0, name
     assert int(final["waiting_by_stamp"]) <= 10000  # max_waiting
+    # The flood's valid candidates are a junk stream: pairs of keyframes at
+    # least 10 (1 m) apart on a straight road, each measured as the
+    # identity. None may be accepted, once every cluster is judged.
+    ros_processes.service(ros.env, "/rrr_node/finish")
+    judged = ros.status()
+    # Pending now: only those that wait for a keyframe by id.
+    assert int(judged["pending"]) == int(judged["waiting"]) - int(judged["waiting_by_stamp"]), judged
+    assert int(judged["rejected"]) > 0, judged
+    assert int(judged["accepted"]) == 0, judged
 
 
 def test_a_flood_past_the_queue_limit_is_refused_and_counted(ros_factory, tmp_path):
