@@ -28,19 +28,21 @@ set(RRR_CORE_SOURCES
   src/core/robust/pcm.cc
   src/core/rrr/chi_square.cc
   src/core/rrr/clustering.cc
-  src/core/rrr/cluster_strain.cc
-  src/core/rrr/consistency_tests.cc
-  src/core/rrr/maintained_map.cc
-  src/core/rrr/loop_scale_history.cc
-  src/core/rrr/map_intra_cluster.cc
-  src/core/rrr/map_verifier.cc
-  src/core/rrr/verify_with_map.cc
-  src/core/rrr/noise_scale.cc
-  src/core/rrr/running_quantile.cc
-  src/core/rrr/options.cc
-  src/core/rrr/batch_verifier.cc
+  src/core/rrr/decision_delta.cc
   src/core/rrr/online_verifier.cc
-  src/core/rrr/incremental_verifier.cc
+  src/core/rrr/options.cc
+  src/core/rrr/verdict.cc
+  src/core/rrr/published/batch_verifier.cc
+  src/core/rrr/published/consistency_tests.cc
+  src/core/rrr/published/incremental_verifier.cc
+  src/core/rrr/map/cluster_strain.cc
+  src/core/rrr/map/loop_scale_history.cc
+  src/core/rrr/map/maintained_map.cc
+  src/core/rrr/map/map_intra_cluster.cc
+  src/core/rrr/map/map_verifier.cc
+  src/core/rrr/map/noise_scale.cc
+  src/core/rrr/map/running_quantile.cc
+  src/core/rrr/map/verify_with_map.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc
   src/core/session/stamped_waiting_table.cc

@@ -17,7 +17,7 @@
 #include "../src/ros/msg_conversion.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/map/map_verifier.h"
 #include "rrr/session/session_store.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/LoopClosure.h"

@@ -18,12 +18,13 @@
 #include "ros_test_helpers.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/batch_verifier.h"
-#include "rrr/rrr/verify_with_map.h"
+#include "rrr/rrr/published/batch_verifier.h"
+#include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr/solver/pose_graph_solver.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Finish.h"
+#include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/LoopClosure.h"
 #include "rrr_slam/SaveGraph.h"
 
@@ -84,11 +85,9 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
     false_pairs.insert({g.ids()[g.loops()[k].from], g.ids()[g.loops()[k].to]});
   }
 
-  rrr_slam::Decisions::ConstPtr decisions;
+  rrr_test::DecisionTable decisions(nh);
   nav_msgs::Path::ConstPtr path;
   visualization_msgs::MarkerArray::ConstPtr markers;
-  auto decision_sub = nh.subscribe<rrr_slam::Decisions>(
-      "/rrr_node/decisions", 10, [&](const auto& m) { decisions = m; });
   auto path_sub = nh.subscribe<nav_msgs::Path>(
       "/rrr_node/path", 10, [&](const auto& m) { path = m; });
   auto marker_sub = nh.subscribe<visualization_msgs::MarkerArray>(
@@ -193,22 +192,25 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
   };
   ASSERT_TRUE(rrr_test::WaitFor(
       [&] {
-        return decisions && decisions->pending == 0 &&
-               decisions->decisions.size() == g.loops().size() && path &&
+        return decisions.AllDecided(g.loops().size()) && path &&
                path->poses.size() == static_cast<size_t>(g.num_poses()) &&
                markers && decided_points() == 2 * g.loops().size();
       },
       30.0));
 
-  // Decisions: the batch answer, every false loop rejected.
+  // Decisions: the batch answer, every false loop rejected. The messages
+  // on ~decisions (each carries what changed or is new) add up to every
+  // candidate's state, as ~get_decisions gives it whole.
+  EXPECT_EQ(decisions.gaps(), 0);
+  EXPECT_TRUE(rrr_test::SameDecisions(decisions, rrr_test::Snapshot()));
   Pairs accepted;
-  for (const auto& d : decisions->decisions) {
+  for (const auto& d : decisions.decisions()) {
     EXPECT_FALSE(d.waiting);
     EXPECT_NE(d.state, rrr_slam::LoopDecision::PENDING);
     if (d.state == rrr_slam::LoopDecision::ACCEPTED)
       accepted.insert({d.from_id, d.to_id});
   }
-  EXPECT_EQ(decisions->decisions.size(), g.loops().size());
+  EXPECT_EQ(decisions.decisions().size(), g.loops().size());
   EXPECT_EQ(accepted, expected);
   for (const auto& f : false_pairs) EXPECT_EQ(accepted.count(f), 0u);
   EXPECT_GT(accepted.size(), 0u);
@@ -263,6 +265,18 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
       std::get<rrr::PoseGraph2>(rrr::ReadG2o(save.request.path).graph);
   EXPECT_EQ(saved.num_poses(), g.num_poses());
   EXPECT_EQ(saved.loops().size(), accepted.size());
+
+  // ~get_accepted_graph: every keyframe, its odometry, the accepted loops.
+  rrr_slam::GetAcceptedGraph graph;
+  ASSERT_TRUE(ros::service::call("/rrr_node/get_accepted_graph", graph));
+  EXPECT_EQ(graph.response.graph.poses.size(),
+            static_cast<size_t>(g.num_poses()));
+  EXPECT_EQ(graph.response.graph.odometry.size(), g.odometry().size());
+  Pairs graph_loops;
+  for (const auto& e : graph.response.graph.loops) {
+    graph_loops.insert({e.from_id, e.to_id});
+  }
+  EXPECT_EQ(graph_loops, accepted);
 }
 
 }  // namespace

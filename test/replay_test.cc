@@ -15,7 +15,7 @@
 #include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/verify_with_map.h"
+#include "rrr/rrr/map/verify_with_map.h"
 #include "rrr_slam/Decisions.h"
 
 namespace {
@@ -75,9 +75,6 @@ TEST(RrrNode, ReplayEndsWithTheBatchDecisions) {
   }
 
   ros::NodeHandle nh;
-  rrr_slam::Decisions::ConstPtr decisions;
-  auto sub = nh.subscribe<rrr_slam::Decisions>(
-      "/rrr_node/decisions", 10, [&](const auto& m) { decisions = m; });
   ASSERT_TRUE(ros::service::waitForService("/rrr_node/get_status", 30000));
   ASSERT_TRUE(rrr_test::WaitFor(
       [&] {
@@ -86,15 +83,17 @@ TEST(RrrNode, ReplayEndsWithTheBatchDecisions) {
       },
       150.0))
       << "the replay did not reach the node in full";
-  // The message published by finish: every candidate, none pending.
-  ASSERT_TRUE(rrr_test::FinishAndWait(&decisions, candidates));
+  // Every candidate, none pending, once every cluster is judged.
+  const rrr_slam::Decisions decisions = rrr_test::FinishAndSnapshot();
+  ASSERT_TRUE(decisions.full) << "~finish or ~get_decisions failed";
+  ASSERT_EQ(decisions.pending, 0u);
   std::set<std::pair<int64_t, int64_t>> accepted;
-  for (const auto& d : decisions->decisions) {
+  for (const auto& d : decisions.decisions) {
     if (d.state == rrr_slam::LoopDecision::ACCEPTED)
       accepted.insert({d.from_id, d.to_id});
   }
   EXPECT_EQ(accepted, expected);
-  EXPECT_EQ(decisions->decisions.size(), candidates);
+  EXPECT_EQ(decisions.decisions.size(), candidates);
   const auto status = rrr_test::Status();
   EXPECT_EQ(status.inputs_dropped, 0u);
   EXPECT_EQ(status.invalid_messages, 0u);

@@ -8,7 +8,7 @@
 #include <set>
 
 #include "ros_test_helpers.h"
-#include "rrr/rrr/verify_with_map.h"
+#include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/Decisions.h"
 
@@ -36,24 +36,23 @@ TEST(SimulatedRobot, EveryCandidateIsJudgedAsInABatchRun) {
 
   ros::NodeHandle nh;
   bool done = false;
-  rrr_slam::Decisions::ConstPtr decisions;
   auto done_sub = nh.subscribe<std_msgs::Bool>(
       "/simulated_robot/done", 1, [&](const auto& m) { done = m->data; });
-  auto decision_sub = nh.subscribe<rrr_slam::Decisions>(
-      "/rrr_node/decisions", 10, [&](const auto& m) { decisions = m; });
   ASSERT_TRUE(ros::service::waitForService("/rrr_node/get_status", 30000));
   ASSERT_TRUE(rrr_test::WaitFor(
       [&] { return done && rrr_test::Status().inputs_processed == inputs; },
       100.0))
       << "processed " << rrr_test::Status().inputs_processed << " of "
       << inputs;
-  // The message published by finish: every candidate, none pending.
-  ASSERT_TRUE(rrr_test::FinishAndWait(&decisions, candidates));
+  // Every candidate, none pending, once every cluster is judged.
+  const rrr_slam::Decisions decisions = rrr_test::FinishAndSnapshot();
+  ASSERT_TRUE(decisions.full) << "~finish or ~get_decisions failed";
+  ASSERT_EQ(decisions.pending, 0u);
   // The node, fed live, decides as the map procedure does on the whole
   // world at once (its odometry information recovered from the growing
   // covariances the robot publishes).
   Pairs accepted, expected;
-  for (const auto& d : decisions->decisions) {
+  for (const auto& d : decisions.decisions) {
     if (d.state == rrr_slam::LoopDecision::ACCEPTED) {
       accepted.insert({d.from_id, d.to_id});
     }

@@ -1,5 +1,7 @@
 #include "graph_messages.h"
 
+#include <map>
+
 #include "msg_conversion.h"
 
 namespace rrr_ros {
@@ -55,32 +57,36 @@ visualization_msgs::Marker MakeMarker(const std::string& frame,
 
 template <class Pose>
 rrr_slam::Decisions DecisionsMsg(
-    const rrr::OnlineVerifier<Pose>& verifier,
-    const std::vector<rrr::DecisionChange>& changes, const std::string& frame) {
+    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<int>& carried,
+    const std::vector<rrr::DecisionChange>& changes, bool full,
+    const std::string& frame) {
   rrr_slam::Decisions msg;
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = frame;
-  std::vector<int> previous(verifier.num_candidates(), -1);
-  for (const auto& c : changes)
-    previous[c.candidate] = static_cast<int>(c.previous);
-  for (int c = 0; c < verifier.num_candidates(); ++c) {
+  msg.full = full;
+  // The state each changed candidate had before the first of `changes`.
+  std::map<int, rrr::LoopState> previous;
+  for (const auto& c : changes) previous.emplace(c.candidate, c.previous);
+  msg.decisions.reserve(carried.size());
+  for (const int c : carried) {
     rrr_slam::LoopDecision d;
     d.candidate = c;
     std::tie(d.from_id, d.to_id) = verifier.ends_of(c);
     d.state = ToMsg(verifier.state(c));
     d.cluster = verifier.cluster_of(c);
     d.waiting = verifier.loop_of(c) < 0;
-    d.previous_state = previous[c] < 0
-                           ? d.state
-                           : ToMsg(static_cast<rrr::LoopState>(previous[c]));
-    d.reversed = previous[c] >= 0 &&
-                 previous[c] != static_cast<int>(rrr::LoopState::kPending);
-    if (previous[c] >= 0) msg.changed.push_back(c);
-    msg.accepted += d.state == rrr_slam::LoopDecision::ACCEPTED;
-    msg.rejected += d.state == rrr_slam::LoopDecision::REJECTED;
-    msg.pending += d.state == rrr_slam::LoopDecision::PENDING;
+    const auto before = previous.find(c);
+    d.previous_state =
+        before == previous.end() ? d.state : ToMsg(before->second);
+    d.reversed =
+        before != previous.end() && before->second != rrr::LoopState::kPending;
+    if (before != previous.end()) msg.changed.push_back(msg.decisions.size());
     msg.decisions.push_back(d);
   }
+  msg.candidates = verifier.num_candidates();
+  msg.accepted = verifier.num_in_state(rrr::LoopState::kAccepted);
+  msg.rejected = verifier.num_in_state(rrr::LoopState::kRejected);
+  msg.pending = verifier.num_in_state(rrr::LoopState::kPending);
   return msg;
 }
 
@@ -158,18 +164,18 @@ rrr_slam::AcceptedGraph AcceptedGraphMsg(
   return msg;
 }
 
-#define RRR_INSTANTIATE_GRAPH_MESSAGES(Pose)                        \
-  template rrr_slam::Decisions DecisionsMsg(                        \
-      const rrr::OnlineVerifier<Pose>&,                             \
-      const std::vector<rrr::DecisionChange>&, const std::string&); \
-  template nav_msgs::Path PathMsg(const std::vector<Pose>&,         \
-                                  const std::vector<std::int64_t>&, \
-                                  const std::string&);              \
-  template visualization_msgs::MarkerArray GraphMarkers(            \
-      const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,   \
-      const std::string&);                                          \
-  template rrr_slam::AcceptedGraph AcceptedGraphMsg(                \
-      const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,   \
+#define RRR_INSTANTIATE_GRAPH_MESSAGES(Pose)                              \
+  template rrr_slam::Decisions DecisionsMsg(                              \
+      const rrr::OnlineVerifier<Pose>&, const std::vector<int>&,          \
+      const std::vector<rrr::DecisionChange>&, bool, const std::string&); \
+  template nav_msgs::Path PathMsg(const std::vector<Pose>&,               \
+                                  const std::vector<std::int64_t>&,       \
+                                  const std::string&);                    \
+  template visualization_msgs::MarkerArray GraphMarkers(                  \
+      const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,         \
+      const std::string&);                                                \
+  template rrr_slam::AcceptedGraph AcceptedGraphMsg(                      \
+      const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,         \
       const std::vector<int>&, const std::string&);
 RRR_INSTANTIATE_GRAPH_MESSAGES(rrr::Pose2)
 RRR_INSTANTIATE_GRAPH_MESSAGES(rrr::Pose3)

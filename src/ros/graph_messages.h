@@ -17,12 +17,15 @@
 
 namespace rrr_ros {
 
-// Every candidate's state, with `changes` (the last update's) marked as
-// changed and, when they left a decided state, as reversed.
+// The state now of the candidates `carried` (ascending candidate numbers),
+// with `changes` (the updates' since the last message) marked as changed
+// and, when they left a decided state, as reversed; `full` says that
+// `carried` is every candidate. The counts are over every candidate.
 template <class Pose>
 rrr_slam::Decisions DecisionsMsg(
-    const rrr::OnlineVerifier<Pose>& verifier,
-    const std::vector<rrr::DecisionChange>& changes, const std::string& frame);
+    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<int>& carried,
+    const std::vector<rrr::DecisionChange>& changes, bool full,
+    const std::string& frame);
 
 // The map as a path: one pose per keyframe, stamped with its keyframe's
 // stamp (`stamps_ns`, nanoseconds, has one per pose of `map`).

@@ -57,6 +57,10 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   if (!(o.stamp_tolerance >= 0)) Bad(nh, "stamp_tolerance", "must be >= 0");
   nh.param("tf_period", o.tf_period, o.tf_period);
   if (!(o.tf_period > 0)) Bad(nh, "tf_period", "must be > 0");
+  nh.param("display_period", o.display_period, o.display_period);
+  if (!(o.display_period >= 0)) Bad(nh, "display_period", "must be >= 0");
+  nh.param("graph_period", o.graph_period, o.graph_period);
+  if (!(o.graph_period >= 0)) Bad(nh, "graph_period", "must be >= 0");
   int max_queue = static_cast<int>(o.max_queue_length);
   nh.param("max_queue_length", max_queue, max_queue);
   if (max_queue < 1) Bad(nh, "max_queue_length", "must be at least 1");

@@ -36,6 +36,10 @@ struct NodeOptions {
   std::string database;
   double stamp_tolerance = 0.1;  // s
   double tf_period = 0.1;        // s; map -> odom is re-broadcast this often
+  // Least seconds between two messages on ~path and ~graph, and on
+  // ~accepted_graph; each is built only while it has a subscriber.
+  double display_period = 0.2;
+  double graph_period = 1.0;
   // Inputs that may wait for the worker; more are refused and counted.
   size_t max_queue_length = 100000;
   rrr::RrrOptions rrr;

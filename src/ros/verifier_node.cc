@@ -14,8 +14,8 @@
 #include "graph_messages.h"
 #include "msg_conversion.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/incremental_verifier.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/published/incremental_verifier.h"
+#include "rrr/rrr/map/map_verifier.h"
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Keyframe.h"
@@ -84,6 +84,10 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
                                              &VerifierNode::OnGetStatus, this);
   finish_srv_ =
       private_nh_.advertiseService("finish", &VerifierNode::OnFinish, this);
+  decisions_srv_ = private_nh_.advertiseService(
+      "get_decisions", &VerifierNode::OnGetDecisions, this);
+  graph_srv_ = private_nh_.advertiseService(
+      "get_accepted_graph", &VerifierNode::OnGetAcceptedGraph, this);
   tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period),
                               &VerifierNode::OnTfTimer, this);
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0),
@@ -140,8 +144,7 @@ void VerifierNode<Pose>::Resume() {
     if (summary.keyframes > 0) {
       resumed_ = true;
       resumed_until_.fromNSec(keyframes_.stamps().newest());
-      RecomputeMap();
-      last_accepted_ = verifier_->AcceptedLoops();
+      MapChanged();
     }
     ROS_INFO(
         "rrr_node: session %s: resumed %d keyframes, %d candidates (and %d "
@@ -216,7 +219,7 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
     }
     const std::vector<int> loops =
         req.with_candidates ? rrr::AllLoops(g) : verifier_->AcceptedLoops();
-    rrr::WriteG2o(g, keyframes_.map(), loops, out);
+    rrr::WriteG2o(g, FreshMap(), loops, out);
     if (req.with_candidates) {
       for (int c = 0; c < verifier_->num_candidates(); ++c) {
         const auto [a, b] = verifier_->ends_of(c);
@@ -270,6 +273,29 @@ bool VerifierNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
     res.rejected = status_.rejected;
     res.pending = status_.pending;
     res.waiting = status_.waiting;
+  });
+  return true;
+}
+
+template <class Pose>
+bool VerifierNode<Pose>::OnGetDecisions(rrr_slam::GetDecisions::Request&,
+                                        rrr_slam::GetDecisions::Response& res) {
+  RunOnWorker([&] {
+    std::vector<int> every(verifier_->num_candidates());
+    for (int c = 0; c < verifier_->num_candidates(); ++c) every[c] = c;
+    res.decisions =
+        DecisionsMsg(*verifier_, every, {}, true, options_.map_frame);
+  });
+  return true;
+}
+
+template <class Pose>
+bool VerifierNode<Pose>::OnGetAcceptedGraph(
+    rrr_slam::GetAcceptedGraph::Request&,
+    rrr_slam::GetAcceptedGraph::Response& res) {
+  RunOnWorker([&] {
+    res.graph = AcceptedGraphMsg(
+        *verifier_, FreshMap(), verifier_->AcceptedLoops(), options_.map_frame);
   });
   return true;
 }
@@ -342,25 +368,25 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
                          e.what());
     }
   }
-  const std::vector<int> accepted = verifier_->AcceptedLoops();
-  const bool accepted_changed = accepted != last_accepted_;
-  if (accepted_changed || finish) {
-    last_accepted_ = accepted;
-    RecomputeMap();
-    PublishAcceptedGraph();
+  bool accepted_changed = false;
+  for (const rrr::DecisionChange& change : changes) {
+    accepted_changed = accepted_changed ||
+                       change.previous == rrr::LoopState::kAccepted ||
+                       change.current == rrr::LoopState::kAccepted;
   }
-  if (!changes.empty() || finish ||
-      verifier_->num_candidates() != published_candidates_) {
-    PublishDecisions(changes);
+  if (accepted_changed || finish) MapChanged();
+  graph_stale_ = graph_stale_ || accepted_changed || finish;
+  const bool display_changed =
+      accepted_changed || !changes.empty() || new_keyframes_;
+  path_stale_ = path_stale_ || display_changed;
+  markers_stale_ = markers_stale_ || display_changed;
+  new_keyframes_ = false;
+  const std::vector<int> carried = decision_delta_.Next(*verifier_, changes);
+  if (!carried.empty() || finish) {
+    decision_pub_.publish(
+        DecisionsMsg(*verifier_, carried, changes, false, options_.map_frame));
   }
-  const ros::WallTime now = ros::WallTime::now();
-  if (accepted_changed || finish || !changes.empty() ||
-      (new_keyframes_ && (now - last_publish_).toSec() >= kPublishPeriod)) {
-    PublishPath();
-    PublishMarkers();
-    last_publish_ = now;
-    new_keyframes_ = false;
-  }
+  PublishDue(finish);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -392,34 +418,52 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
 }
 
 template <class Pose>
-void VerifierNode<Pose>::RecomputeMap() {
-  if (verifier_->graph().num_poses() == 0) return;
-  keyframes_.SetMap(verifier_->Map());
+void VerifierNode<Pose>::MapChanged() {
+  const int poses = verifier_->graph().num_poses();
+  if (poses == 0) return;
+  const std::vector<Pose> ends = verifier_->MapAt({0, poses - 1});
+  keyframes_.SetNewest(ends[0], ends[1]);
+  map_stale_ = true;
 }
 
 template <class Pose>
-void VerifierNode<Pose>::PublishDecisions(
-    const std::vector<rrr::DecisionChange>& changes) {
-  decision_pub_.publish(DecisionsMsg(*verifier_, changes, options_.map_frame));
-  published_candidates_ = verifier_->num_candidates();
+const std::vector<Pose>& VerifierNode<Pose>::FreshMap() {
+  if (map_stale_) {
+    keyframes_.SetMap(verifier_->Map());
+    map_stale_ = false;
+  }
+  return keyframes_.map();
 }
 
 template <class Pose>
-void VerifierNode<Pose>::PublishPath() {
-  path_pub_.publish(PathMsg(keyframes_.map(), keyframes_.stamps().stamps(),
-                            options_.map_frame));
-}
-
-template <class Pose>
-void VerifierNode<Pose>::PublishMarkers() {
-  marker_pub_.publish(
-      GraphMarkers(*verifier_, keyframes_.map(), options_.map_frame));
-}
-
-template <class Pose>
-void VerifierNode<Pose>::PublishAcceptedGraph() {
-  graph_pub_.publish(AcceptedGraphMsg(*verifier_, keyframes_.map(),
-                                      last_accepted_, options_.map_frame));
+void VerifierNode<Pose>::PublishDue(bool finish) {
+  const ros::WallTime now = ros::WallTime::now();
+  // Whether a message for `pub`, behind the state (`*stale`), is due now.
+  auto due = [&](const ros::Publisher& pub, bool* stale, ros::WallTime* last,
+                 double period) {
+    if (!*stale) return false;
+    if (!finish &&
+        ((now - *last).toSec() < period || pub.getNumSubscribers() == 0)) {
+      return false;
+    }
+    *stale = false;
+    *last = now;
+    return true;
+  };
+  if (due(path_pub_, &path_stale_, &last_path_, options_.display_period)) {
+    path_pub_.publish(
+        PathMsg(FreshMap(), keyframes_.stamps().stamps(), options_.map_frame));
+  }
+  if (due(marker_pub_, &markers_stale_, &last_markers_,
+          options_.display_period)) {
+    marker_pub_.publish(
+        GraphMarkers(*verifier_, FreshMap(), options_.map_frame));
+  }
+  if (due(graph_pub_, &graph_stale_, &last_graph_, options_.graph_period)) {
+    graph_pub_.publish(AcceptedGraphMsg(*verifier_, FreshMap(),
+                                        verifier_->AcceptedLoops(),
+                                        options_.map_frame));
+  }
 }
 
 template class VerifierNode<rrr::Pose2>;

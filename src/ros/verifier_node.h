@@ -19,9 +19,12 @@
 #include "rrr/graph/keyframe_track.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/graph/stamped_candidates.h"
+#include "rrr/rrr/decision_delta.h"
 #include "rrr/rrr/online_verifier.h"
 #include "rrr/session/session_store.h"
 #include "rrr_slam/Finish.h"
+#include "rrr_slam/GetAcceptedGraph.h"
+#include "rrr_slam/GetDecisions.h"
 #include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
 #include "rrr_slam/SaveGraph.h"
@@ -63,6 +66,10 @@ class VerifierNode {
                    rrr_slam::GetStatus::Response& res);
   bool OnFinish(rrr_slam::Finish::Request& req,
                 rrr_slam::Finish::Response& res);
+  bool OnGetDecisions(rrr_slam::GetDecisions::Request& req,
+                      rrr_slam::GetDecisions::Response& res);
+  bool OnGetAcceptedGraph(rrr_slam::GetAcceptedGraph::Request& req,
+                          rrr_slam::GetAcceptedGraph::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
   void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
@@ -75,13 +82,18 @@ class VerifierNode {
                         const Pose& z, const Information& information);
   void ResolveStampedLoops();
   // Runs the decision procedure (or, with `finish`, judges everything) and
-  // publishes what changed.
+  // publishes what changed: ~decisions at once, the larger messages at most
+  // every display_period / graph_period s and while subscribed (all of
+  // them at `finish`).
   void UpdateAndPublish(bool finish);
-  void RecomputeMap();
-  void PublishDecisions(const std::vector<rrr::DecisionChange>& changes);
-  void PublishPath();
-  void PublishMarkers();
-  void PublishAcceptedGraph();
+  // After the accepted loops changed: corrects the newest keyframe (and so
+  // map -> odom) now, the whole map when it is next needed (FreshMap).
+  void MapChanged();
+  // The keyframes' corrected poses, recomputed first if the map changed.
+  const std::vector<Pose>& FreshMap();
+  // Publishes the displays and the accepted graph if they are out of date,
+  // due and (unless `finish`) subscribed.
+  void PublishDue(bool finish);
   // Rebuilds the verifier and the keyframes from the session database.
   void Resume();
   // How warnings name the inputs: "<kind> message <seq>".
@@ -98,7 +110,8 @@ class VerifierNode {
   ros::Subscriber odom_sub_, loop_sub_;
   ros::Publisher keyframe_pub_, path_pub_, marker_pub_, decision_pub_,
       graph_pub_, diagnostics_pub_;
-  ros::ServiceServer save_srv_, status_srv_, finish_srv_;
+  ros::ServiceServer save_srv_, status_srv_, finish_srv_, decisions_srv_,
+      graph_srv_;
   ros::Timer tf_timer_, diagnostics_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
@@ -112,7 +125,7 @@ class VerifierNode {
   bool resumed_ = false;
   const rrr::OdometryNoiseModel<Pose> odometry_noise_;
   rrr::KeyframeTrack<Pose> keyframes_;  // and their corrected poses
-  std::vector<int> last_accepted_;
+  bool map_stale_ = false;  // keyframes_'s map is behind the verifier's
   // A candidate named by stamp, converted, waiting for keyframes; `key`:
   // its key in the session database, if there is one.
   struct StampedLoop {
@@ -123,12 +136,14 @@ class VerifierNode {
   };
   rrr::StampedCandidates<StampedLoop> stamped_waiting_;
   bool new_keyframes_ = false;
-  uint64_t taken_since_update_ = 0;  // inputs taken in since the last update
-  int published_candidates_ = 0;     // candidates in the last ~decisions
+  uint64_t taken_since_update_ = 0;    // inputs taken in since the last update
+  rrr::DecisionDelta decision_delta_;  // what ~decisions carries next
+  // Whether ~path, ~graph and ~accepted_graph are behind the state.
+  bool path_stale_ = false, markers_stale_ = false, graph_stale_ = false;
   // Arrival times of the candidates taken in since the last update.
   std::vector<typename InputQueue<Input>::Clock::time_point>
       unpublished_arrivals_;
-  ros::WallTime last_publish_;  // of the path and the markers
+  ros::WallTime last_path_, last_markers_, last_graph_;  // last published
   std::thread worker_;
 
   // Shared with the ROS threads under `state_mutex_`.

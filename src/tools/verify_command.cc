@@ -14,8 +14,8 @@
 #include "rrr/robust/dcs.h"
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
-#include "rrr/rrr/batch_verifier.h"
-#include "rrr/rrr/verify_with_map.h"
+#include "rrr/rrr/published/batch_verifier.h"
+#include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {

@@ -60,6 +60,11 @@ class KeyframeTrack {
   // rigidly so that the first keyframe sits at its odometry pose. Throws
   // std::invalid_argument if there is not one per keyframe.
   void SetMap(const std::vector<Pose>& estimates);
+  // Moves the newest keyframe's map pose where SetMap() would put it with
+  // estimates whose first is `first` and whose last is `newest`: MapToOdom()
+  // and the keyframes appended next follow; the other map poses stay until
+  // the next SetMap(). Throws std::logic_error if the track is empty.
+  void SetNewest(const Pose& first, const Pose& newest);
   // One corrected pose per keyframe, in the map frame.
   const std::vector<Pose>& map() const { return map_; }
   // The map → odometry frame transform: the correction that takes the

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "rrr/graph/pose_graph.h"
-#include "rrr/rrr/batch_verifier.h"
+#include "rrr/rrr/verdict.h"
 #include "rrr/solver/convergence.h"
 
 namespace rrr {

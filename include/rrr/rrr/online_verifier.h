@@ -65,6 +65,9 @@ class OnlineVerifier {
   // The estimate of every pose of graph() with odometry and the accepted
   // loops, optimized.
   virtual std::vector<Pose> Map() = 0;
+  // The estimates of `poses` (pose indices of graph()) in Map(). By default
+  // Map() picked; a verifier may answer without computing the other poses.
+  virtual std::vector<Pose> MapAt(const std::vector<int>& poses);
   virtual int num_clusters() const = 0;
   // The noise scale s the gates use now (1: the information matrices as
   // given), and where it comes from ("given", "set", "loops", "clusters").
@@ -73,6 +76,10 @@ class OnlineVerifier {
   // The candidate's cluster, or -1 while it waits for a pose or is not
   // clustered yet.
   int cluster_of(int candidate) const;
+  // How many times loops already clustered were given other clusters (the
+  // published procedure clusters every loop again, in batch order, as loops
+  // arrive; the map procedure never does).
+  int num_reclusterings() const { return num_reclusterings_; }
 
   const PoseGraph<Pose>& graph() const { return graph_; }
   int num_candidates() const { return static_cast<int>(candidates_.size()); }
@@ -108,8 +115,10 @@ class OnlineVerifier {
   void SetState(int candidate, LoopState state,
                 std::vector<DecisionChange>* changes);
   void CountSolves(int solves) { num_solves_ += solves; }
-  // The cluster of each graph loop clustered so far; subclasses keep it.
+  // The cluster of each graph loop clustered so far; subclasses keep it,
+  // and call CountReclustering when they change an entry they had set.
   std::vector<int> cluster_of_loop_;
+  void CountReclustering() { ++num_reclusterings_; }
 
  private:
   struct Candidate {
@@ -132,6 +141,7 @@ class OnlineVerifier {
   std::vector<int> candidate_of_loop_;  // graph loop index -> candidate
   std::vector<int> poses_at_arrival_;   // graph loop index -> poses
   int num_solves_ = 0;
+  int num_reclusterings_ = 0;
 };
 
 // Feeds `graph` to `verifier` as a robot would produce it: pose after pose

@@ -78,6 +78,12 @@ void KeyframeTrack<Pose>::SetMap(const std::vector<Pose>& estimates) {
 }
 
 template <class Pose>
+void KeyframeTrack<Pose>::SetNewest(const Pose& first, const Pose& newest) {
+  if (empty()) throw std::logic_error("SetNewest on an empty keyframe track");
+  map_.back() = odometry_.front() * first.inverse() * newest;
+}
+
+template <class Pose>
 Pose KeyframeTrack<Pose>::MapToOdom() const {
   if (empty()) return Pose();
   return map_.back() * odometry_.back().inverse();

@@ -90,5 +90,29 @@ TEST(KeyframeTrack, AnchorsTheMapAtTheFirstKeyframeAndCorrectsTheNewest) {
   EXPECT_THROW(track.SetMap(estimates), std::invalid_argument);
 }
 
+TEST(KeyframeTrack, SetNewestCorrectsTheNewestAsSetMapWould) {
+  const std::vector<Pose2> odometry = {
+      Pose2(1.0, 1.0, 0.5), Pose2(2.0, 1.5, 0.7), Pose2(3.0, 2.5, 0.9)};
+  KeyframeTrack<Pose2> whole(0.0, 0.0, 0), ends(0.0, 0.0, 0);
+  EXPECT_THROW(ends.SetNewest(Pose2(), Pose2()), std::logic_error);
+  for (size_t k = 0; k < odometry.size(); ++k) {
+    whole.Append(Reading(static_cast<std::int64_t>(k), odometry[k]));
+    ends.Append(Reading(static_cast<std::int64_t>(k), odometry[k]));
+  }
+  const Pose2 frame(-5.0, 2.0, 2.0);
+  const std::vector<Pose2> estimates = {
+      frame, frame * Pose2(1.1, 0.4, 0.2),
+      frame * Pose2(2.0, 1.0, 0.5) * Pose2(0.3, -0.2, 0.1)};
+  whole.SetMap(estimates);
+  ends.SetNewest(estimates.front(), estimates.back());
+  EXPECT_TRUE(Same(ends.map().back(), whole.map().back()));
+  EXPECT_TRUE(Same(ends.MapToOdom(), whole.MapToOdom()));
+  EXPECT_TRUE(Same(ends.map()[1], odometry[1]));  // until the next SetMap
+  const Pose2 next(4.0, 3.0, 1.0);
+  whole.Append(Reading(3, next));
+  ends.Append(Reading(3, next));
+  EXPECT_TRUE(Same(ends.map().back(), whole.map().back()));
+}
+
 }  // namespace
 }  // namespace rrr

@@ -14,8 +14,8 @@
 #include "rrr/eval/loop_scores.h"
 #include "rrr/eval/trajectory_error.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/batch_verifier.h"
-#include "rrr/rrr/verify_with_map.h"
+#include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/rrr/published/batch_verifier.h"
 #include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {

@@ -122,6 +122,15 @@ void OnlineVerifier<Pose>::ApplyWaiting() {
 }
 
 template <class Pose>
+std::vector<Pose> OnlineVerifier<Pose>::MapAt(const std::vector<int>& poses) {
+  const std::vector<Pose> map = Map();
+  std::vector<Pose> out;
+  out.reserve(poses.size());
+  for (const int p : poses) out.push_back(map.at(p));
+  return out;
+}
+
+template <class Pose>
 int OnlineVerifier<Pose>::cluster_of(int candidate) const {
   const int loop = loop_of(candidate);
   return loop < 0 || loop >= static_cast<int>(cluster_of_loop_.size())

@@ -25,9 +25,20 @@ inline std::vector<double> Encode(const Pose3& p) {
   const auto& t = p.translation();
   return {q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z()};
 }
+// A square matrix: if it is exactly symmetric, its upper triangle row by
+// row (n(n + 1)/2 doubles), else every entry, column by column (n²). Read
+// back exactly either way (FiniteMatrix).
 template <class Derived>
 std::vector<double> Encode(const Eigen::MatrixBase<Derived>& m) {
   const typename Derived::PlainObject plain = m;
+  if (plain == plain.transpose()) {
+    std::vector<double> upper;
+    for (Eigen::Index r = 0; r < plain.rows(); ++r) {
+      for (Eigen::Index c = r; c < plain.cols(); ++c)
+        upper.push_back(plain(r, c));
+    }
+    return upper;
+  }
   return std::vector<double>(plain.data(), plain.data() + plain.size());
 }
 
@@ -49,6 +60,35 @@ inline std::vector<double> FiniteDoubles(const SqliteDb& db,
     }
   }
   return values;
+}
+
+// An N x N matrix from `column` of `row`, stored by Encode in either form,
+// all finite, or fails naming `what` and the row `at`.
+template <int N>
+Eigen::Matrix<double, N, N> FiniteMatrix(const SqliteDb& db,
+                                         const SqliteStatement& row, int column,
+                                         const std::string& what,
+                                         const std::string& at) {
+  constexpr size_t kUpper = N * (N + 1) / 2;
+  const size_t bytes = row.NumBytes(column);
+  const size_t count = bytes / sizeof(double);
+  if (bytes % sizeof(double) != 0 || (count != kUpper && count != N * N)) {
+    db.Fail(at + what + " holds " + std::to_string(bytes) + " bytes, not " +
+            std::to_string(kUpper) + " or " + std::to_string(N * N) +
+            " numbers");
+  }
+  const std::vector<double> values =
+      FiniteDoubles(db, row, column, count, what, at);
+  Eigen::Matrix<double, N, N> m;
+  if (count == kUpper) {
+    size_t k = 0;
+    for (int r = 0; r < N; ++r) {
+      for (int c = r; c < N; ++c) m(r, c) = m(c, r) = values[k++];
+    }
+  } else {
+    m = Eigen::Map<const Eigen::Matrix<double, N, N>>(values.data());
+  }
+  return m;
 }
 
 inline Pose2 DecodePose(const std::vector<double>& v, const Pose2*,
@@ -77,10 +117,8 @@ void DecodeMeasurement(const SqliteDb& db, const SqliteStatement& row,
                                 EncodedSize(static_cast<const Pose*>(nullptr)),
                                 "a measurement", at),
                   static_cast<const Pose*>(nullptr), fail);
-  const std::vector<double> values = FiniteDoubles(
-      db, row, information_column, kDof * kDof, "an information matrix", at);
-  *information =
-      Eigen::Map<const typename Constraint<Pose>::Information>(values.data());
+  *information = FiniteMatrix<kDof>(db, row, information_column,
+                                    "an information matrix", at);
   const bool symmetric = (*information - information->transpose()).norm() <=
                          1e-9 * information->norm();
   if (!symmetric || information->llt().info() != Eigen::Success) {

@@ -25,11 +25,12 @@ CREATE TABLE inputs(
   pose_id INTEGER,             -- keyframes
   stamp_ns INTEGER,            -- keyframes
   odometry_pose BLOB,          -- keyframes: pose in the odometry frame
-  covariance BLOB,             -- keyframes: its 6 x 6 covariance
+  covariance BLOB,             -- keyframes: its 6 x 6 covariance (*)
   candidate INTEGER,           -- candidates: number in arrival order
   from_id INTEGER, to_id INTEGER,  -- candidates
   measurement BLOB,            -- odometry edge or candidate
-  information BLOB);           -- odometry edge or candidate
+  information BLOB);           -- odometry edge or candidate (*)
+-- (*) the upper triangle, row by row, if symmetric, else every entry.
 CREATE TABLE updates(number INTEGER PRIMARY KEY,
   last_seq INTEGER NOT NULL,   -- the inputs up to here came before it
   finish INTEGER NOT NULL);
@@ -94,10 +95,8 @@ void ForEachInput(SqliteDb* db,
       row.keyframe.odometry_pose =
           DecodePose(FiniteDoubles(*db, query, 4, pose_size, "a pose", at),
                      static_cast<const Pose*>(nullptr), fail);
-      const std::vector<double> covariance =
-          FiniteDoubles(*db, query, 5, 36, "a covariance", at);
       row.keyframe.covariance =
-          Eigen::Map<const OdometryCovariance>(covariance.data());
+          FiniteMatrix<6>(*db, query, 5, "a covariance", at);
     }
     if (row.kind != kFirstKeyframe) {
       DecodeMeasurement(*db, query, 9, 10, at, &row.measurement,

@@ -14,8 +14,9 @@
 #include "../testing/replay.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
-#include "rrr/rrr/map_verifier.h"
+#include "rrr/rrr/map/map_verifier.h"
 #include "rrr/sim/simulated_world.h"
+#include "session_codec.h"
 
 namespace rrr {
 namespace {
@@ -192,6 +193,60 @@ std::string ErrorOf(const Open& open) {
     return e.what();
   }
   return "";
+}
+
+TEST(SessionCodec, StoresASymmetricMatrixAsItsUpperTriangle) {
+  Eigen::Matrix3d symmetric;
+  symmetric << 4, 1, 0.5, 1, 3, 0.25, 0.5, 0.25, 2;
+  const std::vector<double> upper = Encode(symmetric);
+  EXPECT_EQ(upper, (std::vector<double>{4, 1, 0.5, 3, 0.25, 2}));
+  Eigen::Matrix3d lopsided = symmetric;
+  lopsided(2, 0) = 0.5 + 1e-16;
+  EXPECT_EQ(Encode(lopsided).size(), 9u);  // kept whole, not symmetrized
+}
+
+TEST_F(SessionStoreTest, StoresSymmetricMatricesHalfAndReadsBothForms) {
+  MapVerifier<Pose2> original{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map");
+    Record(&original, &store, 40, 10);
+  }
+  const auto bytes = [&](const std::string& sql) {
+    sqlite3* db = nullptr;
+    sqlite3_open(path_.c_str(), &db);
+    sqlite3_stmt* statement = nullptr;
+    sqlite3_prepare_v2(db, sql.c_str(), -1, &statement, nullptr);
+    sqlite3_step(statement);
+    const int n = sqlite3_column_int(statement, 0);
+    sqlite3_finalize(statement);
+    sqlite3_close(db);
+    return n;
+  };
+  // 6 x 6 covariance: 21 numbers, not 36; 3 x 3 information: 6, not 9.
+  EXPECT_EQ(bytes("SELECT max(length(covariance)) FROM inputs"), 21 * 8);
+  EXPECT_EQ(bytes("SELECT max(length(information)) FROM inputs"), 6 * 8);
+  // A database written whole (as before) reads the same.
+  Tamper(path_,
+         "UPDATE inputs SET covariance = zeroblob(288) WHERE pose_id = 7");
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  std::vector<KeyframeRecord<Pose2>> keyframes;
+  SessionStore<Pose2>(path_, "map")
+      .Resume(&resumed, [&](PoseId, const KeyframeRecord<Pose2>& k) {
+        keyframes.push_back(k);
+      });
+  ASSERT_EQ(keyframes.size(), 40u);
+  EXPECT_EQ(keyframes[6].covariance(0, 0), 6.0);
+  EXPECT_EQ(keyframes[7].covariance, OdometryCovariance::Zero());
+  EXPECT_EQ(States(resumed), States(original));
+  // Any other length is refused, naming the input.
+  Tamper(path_,
+         "UPDATE inputs SET covariance = zeroblob(80) WHERE pose_id = 9");
+  EXPECT_NE(ErrorOf([&] {
+              MapVerifier<Pose2> again{RrrOptions()};
+              SessionStore<Pose2>(path_, "map")
+                  .Resume(&again, [](PoseId, const KeyframeRecord<Pose2>&) {});
+            }).find("a covariance holds 80 bytes, not 21 or 36 numbers"),
+            std::string::npos);
 }
 
 TEST_F(SessionStoreTest, RefusesWhatItCannotResume) {

@@ -114,4 +114,8 @@ std::vector<double> SqliteStatement::Doubles(int column, size_t count) const {
   return values;
 }
 
+size_t SqliteStatement::NumBytes(int column) const {
+  return static_cast<size_t>(sqlite3_column_bytes(statement_, column));
+}
+
 }  // namespace rrr

@@ -35,6 +35,8 @@ class SqliteStatement {
   std::string Text(int column) const;
   // A blob of `count` doubles; throws SessionError if it is another size.
   std::vector<double> Doubles(int column, size_t count) const;
+  // The size of the blob of `column` in bytes.
+  size_t NumBytes(int column) const;
 
  private:
   SqliteDb* db_;

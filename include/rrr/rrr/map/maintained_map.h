@@ -1,0 +1,134 @@
+// The map RRR keeps between decisions: odometry and the accepted loops.
+#ifndef RRR_RRR_MAP_MAINTAINED_MAP_H_
+#define RRR_RRR_MAP_MAINTAINED_MAP_H_
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "rrr/graph/odometry_chain.h"
+#include "rrr/graph/pose_graph.h"
+#include "rrr/solver/local_problem.h"
+
+namespace rrr {
+
+// What adding some loops to the map would do, found by minimizing the map's
+// error with them over the poses near their ends (MaintainedMap::Try).
+struct MapTrial {
+  // Δ: the minimal error of the local problem with the loops minus its
+  // minimal error without them (both minimized over the same region, the
+  // rest held). When the rest of the map is at its optimum, holding it can
+  // only raise the first minimum, so Δ bounds the increase of the whole
+  // map's minimal error from above.
+  double increase = 0.0;
+  // d²_l of each tried loop after the minimization, in the order given.
+  std::vector<double> loop_chi2;
+  // Every loop of the map in the local problem, with d²_l before and after
+  // the minimization, by loop index.
+  struct LoopStrain {
+    int loop;
+    double before, after;
+  };
+  std::vector<LoopStrain> map_loops;
+  MinimizeResult minimize;
+  int num_free = 0;  // poses minimized
+};
+
+// Odometry plus a set of accepted loops of a graph, with an estimate near
+// the minimum of their error. Only the poses that loops touch (junctions)
+// are variables: the odometry between consecutive junctions is one condensed
+// edge (OdometryChain), so the cost of every operation depends on the loops
+// and junctions it reaches, not on the length of the chain. The estimate of
+// any other pose is its optimum given the junctions next to it; poses after
+// the last junction follow it by odometry.
+//
+// Changes are local: Add, Remove and Try minimize over the junctions within
+// `radius` hops (along the chain or across a loop of the map) of the loops'
+// ends; Optimize minimizes over the whole map. The graph and the chain must
+// outlive the map; poses may be appended to both (same length) between
+// calls.
+template <class Pose>
+class MaintainedMap {
+ public:
+  MaintainedMap(const PoseGraph<Pose>& graph, const OdometryChain<Pose>& chain,
+                const ConvergenceOptions& convergence);
+
+  bool Contains(int loop) const;
+  int num_loops() const { return num_loops_; }
+  int num_junctions() const { return static_cast<int>(junctions_.size()); }
+
+  // d²_l of graph loop `loop` at the current estimate.
+  double LoopChi2(int loop) const;
+  // The estimate of pose `pose`.
+  Pose Estimate(int pose) const;
+  // The estimate of every pose of the graph.
+  std::vector<Pose> Estimates() const;
+
+  // What adding `loops` (not in the map) would do. The region is first
+  // minimized without them, and that improvement of the estimate is kept;
+  // otherwise the map is unchanged until KeepTrial().
+  MapTrial Try(const std::vector<int>& loops, int radius);
+  // What `loops`, all in the map, bring to it: Try() on the map as
+  // Remove(loops, radius, significant) would leave it. The map is unchanged
+  // (and the last Try() dropped).
+  MapTrial Retry(const std::vector<int>& loops, int radius, double significant);
+  // Adds the loops of the last Try() with the estimate it found, then
+  // relaxes as Relax(loops, 2 · its radius, significant). Throws
+  // std::logic_error if the map changed since (another Try, Add, Remove or
+  // Optimize).
+  void KeepTrial(double significant);
+  // Adds `loops` and minimizes near them (Relax).
+  void Add(const std::vector<int>& loops, int radius, double significant);
+  // Removes `loops` (in the map) and minimizes near their ends (Relax).
+  void Remove(const std::vector<int>& loops, int radius, double significant);
+  // Minimizes over the junctions within `radius` hops of `loops`' ends, then
+  // over twice as many hops, and so on while a widening lowers the error by
+  // more than `significant` (the correction has not died out at the
+  // border), up to the whole map.
+  void Relax(const std::vector<int>& loops, int radius, double significant);
+  // Minimizes the error of the whole map.
+  MinimizeResult Optimize();
+
+ private:
+  struct Junction {
+    Pose x;
+    std::vector<int> loops;  // loops of the map at this pose
+    int temporary = 0;       // tries holding it
+  };
+  using Junctions = std::map<int, Junction>;
+
+  // Makes `pose` a junction (placed at its current estimate) if it is not.
+  void Insert(int pose, bool temporary);
+  // Drops junction `pose` if nothing holds it.
+  void Release(int pose);
+  // The junctions within `radius` hops of the junctions `seeds`, ascending.
+  std::vector<int> Region(const std::vector<int>& seeds, int radius) const;
+  // Minimizes over `region` with the map's loops and `extra`; writes the
+  // result into the junctions and returns it with the errors of `extra` and
+  // of the map's loops in the problem.
+  MapTrial Minimize(const std::vector<int>& region,
+                    const std::vector<int>& extra);
+  // Marks `loops` (whose ends are junctions) as loops of the map.
+  void Attach(const std::vector<int>& loops);
+  // Unmarks `loops` (those in the map); their ends stay junctions.
+  void Detach(const std::vector<int>& loops);
+
+  const PoseGraph<Pose>& graph_;
+  const OdometryChain<Pose>& chain_;
+  ConvergenceOptions convergence_;
+  Junctions junctions_;
+  // The last Try(): its loops and the estimate it found, until the map
+  // changes otherwise.
+  struct KeptTrial {
+    std::vector<int> loops;
+    int radius;
+    std::vector<std::pair<int, Pose>> estimate;
+  };
+  std::unique_ptr<KeptTrial> last_trial_;
+  std::vector<bool> in_map_;  // by graph loop index
+  int num_loops_ = 0;
+};
+
+}  // namespace rrr
+
+#endif  // RRR_RRR_MAP_MAINTAINED_MAP_H_

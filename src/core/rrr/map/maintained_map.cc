@@ -1,0 +1,339 @@
+#include "rrr/rrr/map/maintained_map.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/solver/edge_error.h"
+
+namespace rrr {
+namespace {
+
+// The pose x minimizing the error of edges a -> x and x -> b with x_a and
+// x_b held, from `x` on (Gauss–Newton on one pose).
+template <class Pose>
+Pose BestBetween(const Constraint<Pose>& from_a, const Pose& xa,
+                 const Constraint<Pose>& to_b, const Pose& xb, Pose x) {
+  constexpr int D = Pose::kDof;
+  for (int it = 0; it < 8; ++it) {
+    typename Pose::Jacobian ja, jx, jx2, jb;
+    const typename Pose::Tangent ra =
+        EdgeResidualAndJacobians(from_a.measurement, xa, x, &ja, &jx);
+    const typename Pose::Tangent rb =
+        EdgeResidualAndJacobians(to_b.measurement, x, xb, &jx2, &jb);
+    const Eigen::Matrix<double, D, D> h =
+        jx.transpose() * from_a.information * jx +
+        jx2.transpose() * to_b.information * jx2;
+    const typename Pose::Tangent g = jx.transpose() * from_a.information * ra +
+                                     jx2.transpose() * to_b.information * rb;
+    const typename Pose::Tangent step = h.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    x = x * Pose::Exp(step);
+    if (step.squaredNorm() < 1e-20) break;
+  }
+  return x;
+}
+
+}  // namespace
+
+template <class Pose>
+MaintainedMap<Pose>::MaintainedMap(const PoseGraph<Pose>& graph,
+                                   const OdometryChain<Pose>& chain,
+                                   const ConvergenceOptions& convergence)
+    : graph_(graph), chain_(chain), convergence_(convergence) {
+  junctions_[0].x = graph.estimates().empty() ? Pose() : graph.estimates()[0];
+}
+
+template <class Pose>
+bool MaintainedMap<Pose>::Contains(int loop) const {
+  return loop < static_cast<int>(in_map_.size()) && in_map_[loop];
+}
+
+template <class Pose>
+double MaintainedMap<Pose>::LoopChi2(int loop) const {
+  const auto& e = graph_.loops()[loop];
+  const typename Pose::Tangent r =
+      EdgeResidual(e.measurement, Estimate(e.from), Estimate(e.to));
+  return r.dot(e.information * r);
+}
+
+template <class Pose>
+Pose MaintainedMap<Pose>::Estimate(int pose) const {
+  auto next = junctions_.upper_bound(pose);
+  auto prev = std::prev(next);
+  if (prev->first == pose) return prev->second.x;
+  const Constraint<Pose> from_prev = chain_.Between(prev->first, pose);
+  Pose forward = prev->second.x * from_prev.measurement;
+  if (next == junctions_.end()) return forward;
+  return BestBetween(from_prev, prev->second.x,
+                     chain_.Between(pose, next->first), next->second.x,
+                     forward);
+}
+
+template <class Pose>
+std::vector<Pose> MaintainedMap<Pose>::Estimates() const {
+  std::vector<Pose> x(graph_.num_poses());
+  for (int p = 0; p < graph_.num_poses(); ++p) x[p] = Estimate(p);
+  return x;
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Insert(int pose, bool temporary) {
+  auto it = junctions_.find(pose);
+  if (it == junctions_.end()) {
+    Junction j;
+    j.x = Estimate(pose);
+    it = junctions_.emplace(pose, std::move(j)).first;
+  }
+  if (temporary) ++it->second.temporary;
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Release(int pose) {
+  const auto it = junctions_.find(pose);
+  if (it == junctions_.end() || pose == 0) return;
+  if (it->second.temporary > 0) --it->second.temporary;
+  if (it->second.temporary == 0 && it->second.loops.empty()) {
+    junctions_.erase(it);
+  }
+}
+
+template <class Pose>
+std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
+                                             int radius) const {
+  std::unordered_map<int, int> hops;
+  std::vector<int> frontier;
+  for (const int s : seeds) {
+    if (hops.emplace(s, 0).second) frontier.push_back(s);
+  }
+  std::vector<int> next_frontier;
+  for (int h = 1; h <= radius && !frontier.empty(); ++h) {
+    next_frontier.clear();
+    const auto visit = [&](int pose) {
+      if (hops.emplace(pose, h).second) next_frontier.push_back(pose);
+    };
+    for (const int p : frontier) {
+      const auto it = junctions_.find(p);
+      if (it != junctions_.begin()) visit(std::prev(it)->first);
+      if (std::next(it) != junctions_.end()) visit(std::next(it)->first);
+      for (const int k : it->second.loops) {
+        const auto& e = graph_.loops()[k];
+        visit(e.from == p ? e.to : e.from);
+      }
+    }
+    frontier.swap(next_frontier);
+  }
+  std::vector<int> region;
+  region.reserve(hops.size());
+  for (const auto& [pose, h] : hops) region.push_back(pose);
+  std::sort(region.begin(), region.end());
+  return region;
+}
+
+template <class Pose>
+MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
+                                       const std::vector<int>& extra) {
+  // Local indices: the region first, then the junctions it borders.
+  std::unordered_map<int, int> local;
+  std::vector<int> poses;
+  const auto index = [&](int pose) {
+    const auto [it, added] =
+        local.emplace(pose, static_cast<int>(poses.size()));
+    if (added) poses.push_back(pose);
+    return it->second;
+  };
+  for (const int p : region) index(p);
+  std::vector<Constraint<Pose>> edges;
+  std::vector<int> map_loops;
+  for (const int p : region) {
+    const auto it = junctions_.find(p);
+    const auto next = std::next(it);
+    if (next != junctions_.end()) {
+      Constraint<Pose> e = chain_.Between(p, next->first);
+      e.from = index(p);
+      e.to = index(next->first);
+      edges.push_back(e);
+    }
+    if (it != junctions_.begin()) {
+      const int before = std::prev(it)->first;
+      if (!std::binary_search(region.begin(), region.end(), before)) {
+        Constraint<Pose> e = chain_.Between(before, p);
+        e.from = index(before);
+        e.to = index(p);
+        edges.push_back(e);
+      }
+    }
+    map_loops.insert(map_loops.end(), it->second.loops.begin(),
+                     it->second.loops.end());
+  }
+  std::sort(map_loops.begin(), map_loops.end());
+  map_loops.erase(std::unique(map_loops.begin(), map_loops.end()),
+                  map_loops.end());
+  const size_t num_chain_and_map = edges.size() + map_loops.size();
+  for (const int k : map_loops) edges.push_back(graph_.loops()[k]);
+  for (const int k : extra) edges.push_back(graph_.loops()[k]);
+  for (size_t k = num_chain_and_map - map_loops.size(); k < edges.size(); ++k) {
+    edges[k].from = index(edges[k].from);
+    edges[k].to = index(edges[k].to);
+  }
+
+  std::vector<Pose> x(poses.size());
+  for (size_t k = 0; k < poses.size(); ++k) x[k] = junctions_.at(poses[k]).x;
+  std::vector<int> free;
+  for (size_t k = 0; k < region.size(); ++k) {
+    if (region[k] != 0) free.push_back(static_cast<int>(k));
+  }
+  std::vector<const Constraint<Pose>*> pointers;
+  pointers.reserve(edges.size());
+  double before = 0.0;
+  std::vector<double> chi2_before(edges.size());
+  for (size_t k = 0; k < edges.size(); ++k) {
+    pointers.push_back(&edges[k]);
+    chi2_before[k] = EdgeChi2(edges[k], x);
+    if (k < num_chain_and_map) before += chi2_before[k];
+  }
+
+  MapTrial trial;
+  LocalProblem<Pose> problem(static_cast<int>(x.size()), free, pointers);
+  trial.minimize = problem.Minimize(&x, convergence_);
+  trial.num_free = static_cast<int>(free.size());
+  trial.increase = trial.minimize.final_chi2 - before;
+  for (size_t k = num_chain_and_map; k < edges.size(); ++k) {
+    trial.loop_chi2.push_back(EdgeChi2(edges[k], x));
+  }
+  for (size_t k = 0; k < map_loops.size(); ++k) {
+    const size_t edge = num_chain_and_map - map_loops.size() + k;
+    trial.map_loops.push_back(
+        {map_loops[k], chi2_before[edge], EdgeChi2(edges[edge], x)});
+  }
+  for (const int k : free) junctions_.at(poses[k]).x = x[k];
+  return trial;
+}
+
+template <class Pose>
+MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius) {
+  last_trial_.reset();
+  const std::vector<int> ends = PosesTouched(graph_, loops);
+  for (const int p : ends) Insert(p, true);
+  const std::vector<int> region = Region(ends, radius);
+  Minimize(region, {});
+  std::vector<Pose> relaxed;
+  relaxed.reserve(region.size());
+  for (const int p : region) relaxed.push_back(junctions_.at(p).x);
+  MapTrial trial = Minimize(region, loops);
+  auto kept = std::make_unique<KeptTrial>();
+  kept->loops = loops;
+  kept->radius = radius;
+  for (size_t k = 0; k < region.size(); ++k) {
+    Junction& j = junctions_.at(region[k]);
+    kept->estimate.emplace_back(region[k], j.x);
+    j.x = relaxed[k];
+  }
+  for (const int p : ends) Release(p);
+  last_trial_ = std::move(kept);
+  return trial;
+}
+
+template <class Pose>
+MapTrial MaintainedMap<Pose>::Retry(const std::vector<int>& loops, int radius,
+                                    double significant) {
+  const std::vector<int> ends = PosesTouched(graph_, loops);
+  for (const int p : ends) Insert(p, true);  // junctions while out of the map
+  const Junctions before = junctions_;
+  const int num_loops = num_loops_;
+  Detach(loops);
+  Relax(loops, radius, significant);
+  MapTrial trial = Try(loops, radius);
+  junctions_ = before;
+  for (const int k : loops) in_map_[k] = true;
+  num_loops_ = num_loops;
+  for (const int p : ends) Release(p);
+  last_trial_.reset();
+  return trial;
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::KeepTrial(double significant) {
+  if (!last_trial_) throw std::logic_error("no trial to keep");
+  const std::unique_ptr<KeptTrial> trial = std::move(last_trial_);
+  for (const int p : PosesTouched(graph_, trial->loops)) Insert(p, false);
+  Attach(trial->loops);
+  for (const auto& [pose, x] : trial->estimate) junctions_.at(pose).x = x;
+  Relax(trial->loops, 2 * trial->radius, significant);
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Relax(const std::vector<int>& loops, int radius,
+                                double significant) {
+  last_trial_.reset();
+  const std::vector<int> ends = PosesTouched(graph_, loops);
+  size_t size = 0;
+  for (int r = radius;; r *= 2) {
+    const std::vector<int> region = Region(ends, r);
+    if (region.size() == size) return;  // the whole connected map
+    size = region.size();
+    const MinimizeResult result = Minimize(region, {}).minimize;
+    if (!(result.initial_chi2 - result.final_chi2 > significant)) return;
+  }
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Attach(const std::vector<int>& loops) {
+  if (in_map_.size() < graph_.loops().size()) {
+    in_map_.resize(graph_.loops().size(), false);
+  }
+  for (const int k : loops) {
+    if (in_map_[k]) continue;
+    in_map_[k] = true;
+    ++num_loops_;
+    junctions_.at(graph_.loops()[k].from).loops.push_back(k);
+    junctions_.at(graph_.loops()[k].to).loops.push_back(k);
+  }
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Detach(const std::vector<int>& loops) {
+  for (const int k : loops) {
+    if (!Contains(k)) continue;
+    in_map_[k] = false;
+    --num_loops_;
+    for (const int p : {graph_.loops()[k].from, graph_.loops()[k].to}) {
+      auto& list = junctions_.at(p).loops;
+      list.erase(std::find(list.begin(), list.end(), k));
+    }
+  }
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Add(const std::vector<int>& loops, int radius,
+                              double significant) {
+  for (const int p : PosesTouched(graph_, loops)) Insert(p, false);
+  Attach(loops);
+  Relax(loops, radius, significant);
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Remove(const std::vector<int>& loops, int radius,
+                                 double significant) {
+  const std::vector<int> ends = PosesTouched(graph_, loops);
+  Detach(loops);
+  Relax(loops, radius, significant);
+  for (const int p : ends) Release(p);
+}
+
+template <class Pose>
+MinimizeResult MaintainedMap<Pose>::Optimize() {
+  last_trial_.reset();
+  std::vector<int> all;
+  all.reserve(junctions_.size());
+  for (const auto& [pose, j] : junctions_) all.push_back(pose);
+  return Minimize(all, {}).minimize;
+}
+
+template class MaintainedMap<Pose2>;
+template class MaintainedMap<Pose3>;
+
+}  // namespace rrr

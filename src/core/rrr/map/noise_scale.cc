@@ -1,0 +1,83 @@
+#include "rrr/rrr/map/noise_scale.h"
+
+#include <algorithm>
+
+#include "rrr/rrr/chi_square.h"
+
+namespace rrr {
+namespace {
+
+// The q-quantile of `values` (not empty), by the nearest lower rank.
+double Quantile(std::vector<double> values, double q) {
+  const auto at =
+      values.begin() +
+      static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+}  // namespace
+
+NoiseScaleEstimate::NoiseScaleEstimate(int residual_dim)
+    : residual_dim_(residual_dim),
+      chi2_quantile_ratio_(ChiSquareQuantile(kLoopQuantile)(residual_dim) /
+                           residual_dim) {}
+
+void NoiseScaleEstimate::AddLoopSample(double chi2) {
+  loops_.Add(chi2 / residual_dim_);
+  // The kLoopQuantile-quantile of D²/e over that of χ²_e/e, at most 1.
+  from_loops_ =
+      std::min(1.0, std::max(loops_.Value(), 1e-12) / chi2_quantile_ratio_);
+}
+
+void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,
+                                          int dof) {
+  SetClusterSamples({{cluster, increase, dof}});
+}
+
+void NoiseScaleEstimate::RemoveClusterSample(int cluster) {
+  clusters_.erase(cluster);
+  UpdateFromClusters();
+}
+
+void NoiseScaleEstimate::SetClusterSamples(
+    const std::vector<ClusterSample>& samples) {
+  for (const ClusterSample& sample : samples) {
+    clusters_[sample.cluster] = std::max(sample.error, 0.0) / sample.dof;
+  }
+  UpdateFromClusters();
+}
+
+void NoiseScaleEstimate::SetClusterSamplesAtMinimum(
+    std::vector<ClusterSample> samples, double map_chi2) {
+  double loops_chi2 = 0.0;
+  for (const ClusterSample& sample : samples) loops_chi2 += sample.error;
+  if (loops_chi2 > 0.0) {
+    const double map_over_loops = std::max(1.0, map_chi2 / loops_chi2);
+    for (ClusterSample& sample : samples) sample.error *= map_over_loops;
+  }
+  SetClusterSamples(samples);
+}
+
+void NoiseScaleEstimate::UpdateFromClusters() {
+  const int count = static_cast<int>(clusters_.size());
+  clusters_took_over_ = clusters_took_over_ || count >= kMinClusters;
+  if (count == 0 || !clusters_took_over_) {
+    from_clusters_ = 0.0;
+    return;
+  }
+  std::vector<double> values;
+  values.reserve(clusters_.size());
+  for (const auto& [c, v] : clusters_) values.push_back(v);
+  from_clusters_ = std::max(Quantile(values, 0.5), 1e-12);
+}
+
+double NoiseScaleEstimate::Value(double from_loops) const {
+  return from_clusters_ > 0.0 ? from_clusters_ : from_loops;
+}
+
+std::string NoiseScaleEstimate::Source() const {
+  return from_clusters_ > 0.0 ? "clusters" : "loops";
+}
+
+}  // namespace rrr

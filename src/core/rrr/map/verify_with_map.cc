@@ -1,0 +1,48 @@
+#include "rrr/rrr/map/verify_with_map.h"
+
+#include <algorithm>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+
+namespace rrr {
+
+template <class Pose>
+Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
+                      std::vector<Pose>* map, MapVerifierStats* stats) {
+  MapVerifier<Pose> verifier(options);
+  const std::vector<int> loop_of_candidate =
+      FeedInArrivalOrder(graph, &verifier);
+
+  Verdict verdict;
+  verdict.cluster_of_loop.assign(graph.loops().size(), -1);
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    const int k = loop_of_candidate[c];
+    verdict.cluster_of_loop[k] = verifier.cluster_of(c);
+    (verifier.state(c) == LoopState::kAccepted ? verdict.accepted
+                                               : verdict.rejected)
+        .push_back(k);
+  }
+  std::sort(verdict.accepted.begin(), verdict.accepted.end());
+  std::sort(verdict.rejected.begin(), verdict.rejected.end());
+  verdict.clusters.resize(verifier.num_clusters());
+  for (size_t k = 0; k < verdict.cluster_of_loop.size(); ++k) {
+    verdict.clusters[verdict.cluster_of_loop[k]].loops.push_back(
+        static_cast<int>(k));
+  }
+  if (map) *map = verifier.Map();
+  if (stats) {
+    *stats = verifier.stats();
+    stats->noise_scale = verifier.noise_scale();
+    stats->noise_scale_source = verifier.noise_scale_source();
+    stats->a_posteriori_scale = verifier.APosterioriScale();
+  }
+  return verdict;
+}
+
+template Verdict VerifyWithMap(const PoseGraph<Pose2>&, const RrrOptions&,
+                               std::vector<Pose2>*, MapVerifierStats*);
+template Verdict VerifyWithMap(const PoseGraph<Pose3>&, const RrrOptions&,
+                               std::vector<Pose3>*, MapVerifierStats*);
+
+}  // namespace rrr
