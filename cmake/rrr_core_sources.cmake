@@ -40,6 +40,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/map/maintained_map.cc
   src/core/rrr/map/map_intra_cluster.cc
   src/core/rrr/map/map_verifier.cc
+  src/core/rrr/map/map_verifier_reopen.cc
   src/core/rrr/map/noise_scale.cc
   src/core/rrr/map/running_quantile.cc
   src/core/rrr/map/verify_with_map.cc
