@@ -78,14 +78,17 @@ class NoiseScaleEstimate {
   std::string Source() const;
 
  private:
-  // Recomputes the clusters' estimate from clusters_.
+  // Sets cluster `cluster`'s error/dof to `value` (replacing its sample).
+  void PutClusterSample(int cluster, double value);
+  // Takes the clusters' estimate from their median (O(1)).
   void UpdateFromClusters();
 
   int residual_dim_;
   double chi2_quantile_ratio_;  // kLoopQuantile-quantile of χ²_e / e
   RunningQuantile loops_{kLoopQuantile};  // of D²/e of the loop samples
   double from_loops_ = 1.0;
-  std::map<int, double> clusters_;   // error/dof by cluster
+  std::map<int, double> clusters_;       // error/dof by cluster
+  RunningQuantile cluster_median_{0.5};  // of the values of clusters_
   double from_clusters_ = 0.0;       // 0 while the loops' estimate is in force
   bool clusters_took_over_ = false;  // kMinClusters samples were reached
 };

@@ -1,32 +1,35 @@
-// One quantile of a growing sample, kept up to date as values arrive.
+// One quantile of a sample, kept up to date as values arrive and leave.
 #ifndef RRR_RRR_MAP_RUNNING_QUANTILE_H_
 #define RRR_RRR_MAP_RUNNING_QUANTILE_H_
 
-#include <functional>
-#include <queue>
-#include <vector>
+#include <set>
 
 namespace rrr {
 
 // The q-quantile of the values added so far by the nearest lower rank: the
 // value at index ⌊q·(n − 1)⌋ of the n values sorted ascending. O(log n) per
-// value added, O(1) to read.
+// value added or removed, O(1) to read.
 class RunningQuantile {
  public:
   // 0 ≤ `q` ≤ 1.
   explicit RunningQuantile(double q) : q_(q) {}
 
+  // O(log n).
   void Add(double value);
+  // Removes one value equal to `value`; returns false (and changes nothing)
+  // if there is none. O(log n).
+  bool Remove(double value);
   int size() const { return static_cast<int>(lower_.size() + upper_.size()); }
   // The quantile; size() must be positive.
-  double Value() const { return lower_.top(); }
+  double Value() const { return *lower_.rbegin(); }
 
  private:
+  // Moves values between the halves until `lower_` holds ⌊q·(n − 1)⌋ + 1.
+  void Balance();
+
   double q_;
-  // The ⌊q·(n − 1)⌋ + 1 smallest values, the largest of them on top; the
-  // rest, the smallest on top.
-  std::priority_queue<double> lower_;
-  std::priority_queue<double, std::vector<double>, std::greater<>> upper_;
+  // The ⌊q·(n − 1)⌋ + 1 smallest values, and the rest.
+  std::multiset<double> lower_, upper_;
 };
 
 }  // namespace rrr

@@ -5,18 +5,6 @@
 #include "rrr/rrr/chi_square.h"
 
 namespace rrr {
-namespace {
-
-// The q-quantile of `values` (not empty), by the nearest lower rank.
-double Quantile(std::vector<double> values, double q) {
-  const auto at =
-      values.begin() +
-      static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
-}
-
-}  // namespace
 
 NoiseScaleEstimate::NoiseScaleEstimate(int residual_dim)
     : residual_dim_(residual_dim),
@@ -36,14 +24,27 @@ void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,
 }
 
 void NoiseScaleEstimate::RemoveClusterSample(int cluster) {
-  clusters_.erase(cluster);
+  const auto it = clusters_.find(cluster);
+  if (it != clusters_.end()) {
+    cluster_median_.Remove(it->second);
+    clusters_.erase(it);
+  }
   UpdateFromClusters();
+}
+
+void NoiseScaleEstimate::PutClusterSample(int cluster, double value) {
+  const auto [it, added] = clusters_.emplace(cluster, value);
+  if (!added) {
+    cluster_median_.Remove(it->second);
+    it->second = value;
+  }
+  cluster_median_.Add(value);
 }
 
 void NoiseScaleEstimate::SetClusterSamples(
     const std::vector<ClusterSample>& samples) {
   for (const ClusterSample& sample : samples) {
-    clusters_[sample.cluster] = std::max(sample.error, 0.0) / sample.dof;
+    PutClusterSample(sample.cluster, std::max(sample.error, 0.0) / sample.dof);
   }
   UpdateFromClusters();
 }
@@ -66,10 +67,7 @@ void NoiseScaleEstimate::UpdateFromClusters() {
     from_clusters_ = 0.0;
     return;
   }
-  std::vector<double> values;
-  values.reserve(clusters_.size());
-  for (const auto& [c, v] : clusters_) values.push_back(v);
-  from_clusters_ = std::max(Quantile(values, 0.5), 1e-12);
+  from_clusters_ = std::max(cluster_median_.Value(), 1e-12);
 }
 
 double NoiseScaleEstimate::Value(double from_loops) const {

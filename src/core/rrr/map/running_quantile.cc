@@ -1,24 +1,45 @@
 #include "rrr/rrr/map/running_quantile.h"
 
 #include <cstddef>
+#include <iterator>
 
 namespace rrr {
 
 void RunningQuantile::Add(double value) {
-  if (lower_.empty() || value <= lower_.top()) {
-    lower_.push(value);
+  if (lower_.empty() || value <= *lower_.rbegin()) {
+    lower_.insert(value);
   } else {
-    upper_.push(value);
+    upper_.insert(value);
   }
-  const auto wanted =
-      static_cast<std::size_t>(q_ * static_cast<double>(size() - 1)) + 1;
+  Balance();
+}
+
+bool RunningQuantile::Remove(double value) {
+  auto it = lower_.find(value);
+  if (it != lower_.end()) {
+    lower_.erase(it);
+  } else {
+    it = upper_.find(value);
+    if (it == upper_.end()) return false;
+    upper_.erase(it);
+  }
+  Balance();
+  return true;
+}
+
+void RunningQuantile::Balance() {
+  const std::size_t wanted =
+      size() == 0
+          ? 0
+          : static_cast<std::size_t>(q_ * static_cast<double>(size() - 1)) + 1;
   while (lower_.size() > wanted) {
-    upper_.push(lower_.top());
-    lower_.pop();
+    const auto largest = std::prev(lower_.end());
+    upper_.insert(*largest);
+    lower_.erase(largest);
   }
   while (lower_.size() < wanted) {
-    lower_.push(upper_.top());
-    upper_.pop();
+    lower_.insert(*upper_.begin());
+    upper_.erase(upper_.begin());
   }
 }
 

@@ -44,5 +44,31 @@ TEST(RunningQuantile, ValuesInAnyOrderGiveTheSameQuantile) {
   EXPECT_EQ(falling.Value(), 5.0);
 }
 
+TEST(RunningQuantile, StaysTheSortedSamplesQuantileAsValuesLeave) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> coarse(0, 10);  // many ties
+  for (const double q : {0.0, 0.5, 1.0}) {
+    RunningQuantile running(q);
+    std::vector<double> kept;
+    for (int k = 0; k < 600; ++k) {
+      // Mostly adds, sometimes removes a value kept (or one never added).
+      if (k % 3 == 2 && !kept.empty()) {
+        const size_t at = rng() % kept.size();
+        ASSERT_TRUE(running.Remove(kept[at]));
+        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(at));
+      } else {
+        const double v = coarse(rng);
+        running.Add(v);
+        kept.push_back(v);
+      }
+      EXPECT_FALSE(running.Remove(-1.0));
+      ASSERT_EQ(running.size(), static_cast<int>(kept.size()));
+      if (!kept.empty()) {
+        ASSERT_EQ(running.Value(), SortedQuantile(kept, q)) << "q " << q;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rrr
