@@ -46,5 +46,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/map/verify_with_map.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc
+  src/core/session/session_tables.cc
+  src/core/session/session_contents.cc
   src/core/session/stamped_waiting_table.cc
 )
