@@ -88,6 +88,7 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   nh.param("noise_scale", o.rrr.noise_scale, o.rrr.noise_scale);
   nh.param("noise_margin", o.rrr.noise_margin, o.rrr.noise_margin);
   nh.param("map_radius", o.rrr.map_radius, o.rrr.map_radius);
+  nh.param("map_junctions", o.rrr.map_junctions, o.rrr.map_junctions);
   const std::string problem = o.rrr.Validate();
   if (!problem.empty()) {
     Bad(nh, problem.substr(0, problem.find(' ')), problem);

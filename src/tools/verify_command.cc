@@ -14,8 +14,8 @@
 #include "rrr/robust/dcs.h"
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
-#include "rrr/rrr/published/batch_verifier.h"
 #include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/rrr/published/batch_verifier.h"
 #include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
@@ -93,7 +93,8 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
       {"span_gate", args.options.span_gate},
       {"threads", args.options.threads},
       {"noise_scale", args.options.noise_scale},
-      {"map_radius", args.options.map_radius}};
+      {"map_radius", args.options.map_radius},
+      {"map_junctions", args.options.map_junctions}};
   report["final_optimization"] = MinimizeJson(final_map);
   if (args.method == "rrr" && args.options.procedure == Procedure::kMap) {
     report["map_procedure"] = {{"intra_solves", stats.intra_solves},
@@ -160,6 +161,11 @@ void AddVerifyCommand(CLI::App& app) {
   cmd->add_option("--map-radius", args->options.map_radius,
                   "map procedure: hops around a cluster's ends that a local "
                   "solve minimizes over")
+      ->capture_default_str();
+  cmd->add_option("--map-junctions", args->options.map_junctions,
+                  "map procedure: a local solve stops widening after the hop "
+                  "layer that brings it to this many junctions (a decision's "
+                  "cost does not grow with the map)")
       ->capture_default_str();
   cmd->add_option("-k,--iterations", args->options.iterations,
                   "Gauss-Newton iterations per consistency test")

@@ -73,6 +73,11 @@ struct RrrOptions {
   // Hops (along the chain between junctions, or across an accepted loop)
   // around a cluster's ends that a local solve minimizes over.
   int map_radius = 6;
+  // A local solve's region stops growing after the hop layer that brings it
+  // to this many junctions, so that no decision costs more than a solve of
+  // about that size, however large the map (the whole map is minimized only
+  // at optimize_every).
+  int map_junctions = 1000;
   // The whole map is minimized after this many accepted clusters, or after
   // the accepted clusters grew by optimize_growth if that is more: often
   // while the map is small, a bounded share of the work when it is large.

@@ -38,6 +38,10 @@ std::string RrrOptions::Validate() const {
   if (map_radius < 1) {
     return "map_radius must be at least 1, got " + std::to_string(map_radius);
   }
+  if (map_junctions < 1) {
+    return "map_junctions must be at least 1, got " +
+           std::to_string(map_junctions);
+  }
   if (optimize_every < 1) {
     return "optimize_every must be at least 1, got " +
            std::to_string(optimize_every);

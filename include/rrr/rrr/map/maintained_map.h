@@ -44,14 +44,15 @@ struct MapTrial {
 //
 // Changes are local: Add, Remove and Try minimize over the junctions within
 // `radius` hops (along the chain or across a loop of the map) of the loops'
-// ends; Optimize minimizes over the whole map. The graph and the chain must
-// outlive the map; poses may be appended to both (same length) between
-// calls.
+// ends, and no further than the hop layer that brings them to
+// `most_junctions`; Optimize minimizes over the whole map. The graph and the
+// chain must outlive the map; poses may be appended to both (same length)
+// between calls.
 template <class Pose>
 class MaintainedMap {
  public:
   MaintainedMap(const PoseGraph<Pose>& graph, const OdometryChain<Pose>& chain,
-                const ConvergenceOptions& convergence);
+                const ConvergenceOptions& convergence, int most_junctions);
 
   bool Contains(int loop) const;
   int num_loops() const { return num_loops_; }
@@ -84,7 +85,8 @@ class MaintainedMap {
   // Minimizes over the junctions within `radius` hops of `loops`' ends, then
   // over twice as many hops, and so on while a widening lowers the error by
   // more than `significant` (the correction has not died out at the
-  // border), up to the whole map.
+  // border), until the region stops growing (the whole connected map, or
+  // `most_junctions`).
   void Relax(const std::vector<int>& loops, int radius, double significant);
   // Minimizes the error of the whole map.
   MinimizeResult Optimize();
@@ -101,7 +103,8 @@ class MaintainedMap {
   void Insert(int pose, bool temporary);
   // Drops junction `pose` if nothing holds it.
   void Release(int pose);
-  // The junctions within `radius` hops of the junctions `seeds`, ascending.
+  // The junctions within `radius` hops of the junctions `seeds`, ascending;
+  // no hop layer is added once there are `most_junctions_`.
   std::vector<int> Region(const std::vector<int>& seeds, int radius) const;
   // Minimizes over `region` with the map's loops and `extra`; writes the
   // result into the junctions and returns it with the errors of `extra` and
@@ -116,6 +119,7 @@ class MaintainedMap {
   const PoseGraph<Pose>& graph_;
   const OdometryChain<Pose>& chain_;
   ConvergenceOptions convergence_;
+  int most_junctions_;
   Junctions junctions_;
   // The last Try(): its loops and the estimate it found, until the map
   // changes otherwise.

@@ -60,8 +60,8 @@ struct MapVerifierStats {
 //     step 1: a cluster's sum must not hide one link the map refutes). Both
 //     are checked at the map's estimate (no solve; S's error there bounds Δ
 //     from above) and then after a minimization over the junctions within
-//     `map_radius` hops of S's ends (MaintainedMap::Try); S is accepted
-//     when either passes.
+//     `map_radius` hops of S's ends, at most about `map_junctions` of them
+//     (MaintainedMap::Try); S is accepted when either passes.
 //  3. Otherwise, while the trial leaves S's worst link with d²_l ≥
 //     s·χ²(α, e), that link is dropped and the rest is tried (at most
 //     kMostPrunedLinks links): odometry alone can absorb a false link that

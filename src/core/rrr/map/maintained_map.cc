@@ -42,8 +42,12 @@ Pose BestBetween(const Constraint<Pose>& from_a, const Pose& xa,
 template <class Pose>
 MaintainedMap<Pose>::MaintainedMap(const PoseGraph<Pose>& graph,
                                    const OdometryChain<Pose>& chain,
-                                   const ConvergenceOptions& convergence)
-    : graph_(graph), chain_(chain), convergence_(convergence) {
+                                   const ConvergenceOptions& convergence,
+                                   int most_junctions)
+    : graph_(graph),
+      chain_(chain),
+      convergence_(convergence),
+      most_junctions_(most_junctions) {
   junctions_[0].x = graph.estimates().empty() ? Pose() : graph.estimates()[0];
 }
 
@@ -110,7 +114,9 @@ std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
     if (hops.emplace(s, 0).second) frontier.push_back(s);
   }
   std::vector<int> next_frontier;
-  for (int h = 1; h <= radius && !frontier.empty(); ++h) {
+  for (int h = 1; h <= radius && !frontier.empty() &&
+                  hops.size() < static_cast<size_t>(most_junctions_);
+       ++h) {
     next_frontier.clear();
     const auto visit = [&](int pose) {
       if (hops.emplace(pose, h).second) next_frontier.push_back(pose);

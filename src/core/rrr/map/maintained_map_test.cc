@@ -12,6 +12,8 @@ namespace rrr {
 namespace {
 
 const ConvergenceOptions kTight{50, 1e-12};
+// A limit of junctions per local solve that no test map reaches.
+constexpr int kAnyRegion = 1 << 30;
 
 // The minimal error of odometry plus `loops`, every pose a variable.
 template <class Pose>
@@ -44,7 +46,7 @@ TYPED_TEST_SUITE(MaintainedMapTest, Poses);
 TYPED_TEST(MaintainedMapTest, TryGivesTheIncreaseOfTheWholeMapsMinimum) {
   const auto graph = Revisits<TypeParam>();
   const OdometryChain<TypeParam> chain = ChainOf(graph);
-  MaintainedMap<TypeParam> map(graph, chain, kTight);
+  MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
   map.Add(accepted, 100, 1e-9);
   map.Optimize();
@@ -64,10 +66,34 @@ TYPED_TEST(MaintainedMapTest, TryGivesTheIncreaseOfTheWholeMapsMinimum) {
   EXPECT_FALSE(map.Contains(6));
 }
 
+TYPED_TEST(MaintainedMapTest, RegionsStopGrowingAtTheJunctionLimit) {
+  const auto graph = Revisits<TypeParam>();
+  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
+  MaintainedMap<TypeParam> unlimited(graph, chain, kTight, kAnyRegion);
+  // A limit below the tried loop's two ends: no hop layer is added.
+  MaintainedMap<TypeParam> seeds_only(graph, chain, kTight, 1);
+  // A limit the whole map (13 junctions and the two ends) stays under.
+  MaintainedMap<TypeParam> roomy(graph, chain, kTight, 15);
+  for (auto* map : {&unlimited, &seeds_only, &roomy}) {
+    map->Add(accepted, 100, 1e-9);
+    map->Optimize();
+  }
+  const MapTrial wide = unlimited.Try({6}, 100);
+  const MapTrial two = seeds_only.Try({6}, 100);
+  const MapTrial all = roomy.Try({6}, 100);
+  EXPECT_EQ(wide.num_free, unlimited.num_junctions() + 2 - 1);  // pose 0 held
+  EXPECT_EQ(two.num_free, 2);
+  EXPECT_EQ(all.num_free, wide.num_free);
+  EXPECT_NEAR(all.increase, wide.increase, 1e-9 * wide.increase);
+  // Holding more of the map fixed can only raise the increase.
+  EXPECT_GE(two.increase, wide.increase * (1 - 1e-9));
+}
+
 TYPED_TEST(MaintainedMapTest, EstimatesAreNearTheWholeGraphsOptimum) {
   const auto graph = Revisits<TypeParam>();
   const OdometryChain<TypeParam> chain = ChainOf(graph);
-  MaintainedMap<TypeParam> map(graph, chain, kTight);
+  MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> loops = {0, 1, 2, 3, 4, 5, 6};
   map.Add(loops, 100, 1e-12);
   map.Optimize();
@@ -91,7 +117,8 @@ TYPED_TEST(MaintainedMapTest, EstimatesAreNearTheWholeGraphsOptimum) {
 TEST(MaintainedMap, KeepTrialAddsTheLoopsWithTheTrialsEstimate) {
   const auto graph = Revisits<Pose2>();
   const OdometryChain<Pose2> chain = ChainOf(graph);
-  MaintainedMap<Pose2> kept(graph, chain, kTight), added(graph, chain, kTight);
+  MaintainedMap<Pose2> kept(graph, chain, kTight, kAnyRegion),
+      added(graph, chain, kTight, kAnyRegion);
   kept.Try({0, 1}, 100);
   kept.KeepTrial(1e-9);
   added.Add({0, 1}, 100, 1e-9);
@@ -116,7 +143,7 @@ TEST(MaintainedMap, RemovingALoopRestoresTheMapWithoutIt) {
   graph.AddEdge(wrong);
   const int false_loop = static_cast<int>(graph.loops().size()) - 1;
   const OdometryChain<Pose2> chain = ChainOf(graph);
-  MaintainedMap<Pose2> map(graph, chain, kTight);
+  MaintainedMap<Pose2> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> good = {0, 1, 2, 3, 4, 5};
   map.Add(good, 100, 1e-12);
   map.Optimize();
@@ -143,7 +170,7 @@ TEST(MaintainedMap, RemovingALoopRestoresTheMapWithoutIt) {
 TYPED_TEST(MaintainedMapTest, RetryIsTryWithoutTheLoopsAndChangesNothing) {
   const auto graph = Revisits<TypeParam>();
   const OdometryChain<TypeParam> chain = ChainOf(graph);
-  MaintainedMap<TypeParam> map(graph, chain, kTight);
+  MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
   map.Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
   map.Optimize();
   const std::vector<TypeParam> before = map.Estimates();

@@ -85,8 +85,8 @@ void MapVerifier<Pose>::Catch() {
   const PoseGraph<Pose>& graph = this->graph();
   if (graph.num_poses() == 0) return;
   if (!map_) {
-    map_ = std::make_unique<MaintainedMap<Pose>>(graph, chain_,
-                                                 options_.convergence);
+    map_ = std::make_unique<MaintainedMap<Pose>>(
+        graph, chain_, options_.convergence, options_.map_junctions);
   }
   // The verifier's graph has one forward odometry edge per pose, in order.
   for (int k = chain_.num_poses(); k < graph.num_poses(); ++k) {
