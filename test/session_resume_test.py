@@ -3,8 +3,9 @@ bag plays, is killed with SIGKILL in the middle, restarts on the same
 database, and the rest of the bag is played from its last recorded keyframe.
 The final accepted loops equal rrr verify's on the same graph, only the
 inputs of the unfinished update come again, and rrr export and rrr verify
-read the database. Runs on a world the package generates, and on Bicocca 25b
-(0.150) when the datasets are there (RRR_DATASETS, default ../shared/datasets).
+read the database. With checkpoints every 200 keyframes, and without any.
+Runs on a world the package generates, and on Bicocca 25b (0.150) when the
+datasets are there (RRR_DATASETS, default ../shared/datasets).
 """
 import json
 import os
@@ -47,15 +48,17 @@ def play(env, log, bag, *options):
                             stderr=subprocess.STDOUT, start_new_session=True)
 
 
-def start_node(env, database, window, log):
+def start_node(env, database, window, log, checkpoint_keyframes=1000):
     return subprocess.Popen(
         ["roslaunch", "--wait", "rrr_slam", "rrr.launch", f"database:={database}",
-         f"cluster_window:={window}", "output:=log"], env=env, stdout=log, stderr=subprocess.STDOUT,
-        start_new_session=True)
+         f"cluster_window:={window}", f"checkpoint_keyframes:={checkpoint_keyframes}",
+         "output:=log"], env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
 
 
+@pytest.mark.parametrize("checkpoint_keyframes", [0, 200])
 @pytest.mark.parametrize("source", generated_and_bicocca())
-def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, tmp_path):
+def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, checkpoint_keyframes,
+                                                                        tmp_path):
     graph = tmp_path / "world.g2o"
     window = 10
     if source == "simulated":
@@ -77,7 +80,7 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
     database = tmp_path / "session.db"
     launch = player = None
     try:
-        launch = start_node(env, database, window, log)
+        launch = start_node(env, database, window, log, checkpoint_keyframes)
         pid = node_pid(launch)
         wait_for(lambda: status(env), 60, "~get_status")
         player = play(env, log, bag)
@@ -89,11 +92,15 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         player.wait(timeout=30)
         launch.wait(timeout=30)
 
-        launch = start_node(env, database, window, log)
+        launch = start_node(env, database, window, log, checkpoint_keyframes)
         node_pid(launch)
         resumed = wait_for(lambda: status(env), 120, "the restarted node")
         keyframes = int(resumed["resumed_keyframes"])
         assert poses // 4 < keyframes < poses, resumed
+        # With checkpoints every 200 keyframes, the resume restored one (of
+        # the map procedure, the default) and ran only the updates after it.
+        restored_from = int(resumed["resumed_from_update"])
+        assert (restored_from > 0) == (checkpoint_keyframes > 0), resumed
         assert resumed["database"] == str(database)
         # Play on from the last recorded keyframe (pose k is at 1 + k / RATE).
         start = (keyframes - 1) / RATE - 0.5 / RATE

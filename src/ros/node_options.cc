@@ -85,6 +85,11 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
         "must be 'map' or 'published', got '" + procedure + "'");
   }
   nh.param("database", o.database, o.database);
+  nh.param("checkpoint_keyframes", o.checkpoint_keyframes,
+           o.checkpoint_keyframes);
+  if (o.checkpoint_keyframes < 0) {
+    Bad(nh, "checkpoint_keyframes", "must be >= 0");
+  }
   nh.param("noise_scale", o.rrr.noise_scale, o.rrr.noise_scale);
   nh.param("noise_margin", o.rrr.noise_margin, o.rrr.noise_margin);
   nh.param("map_radius", o.rrr.map_radius, o.rrr.map_radius);

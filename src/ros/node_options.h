@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rrr/rrr/options.h"
+#include "rrr/session/session_store.h"
 
 namespace rrr_ros {
 
@@ -34,6 +35,10 @@ struct NodeOptions {
   // recorded there, and a node started on an existing one resumes it.
   // Empty: no database.
   std::string database;
+  // Keyframes between two checkpoints of the verifier's state in the
+  // database, from which a resume starts instead of running every update
+  // again (0: none).
+  int checkpoint_keyframes = rrr::kDefaultCheckpointKeyframes;
   double stamp_tolerance = 0.1;  // s
   double tf_period = 0.1;        // s; map -> odom is re-broadcast this often
   // Least seconds between two messages on ~path and ~graph, and on

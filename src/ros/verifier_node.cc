@@ -14,8 +14,8 @@
 #include "graph_messages.h"
 #include "msg_conversion.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/published/incremental_verifier.h"
 #include "rrr/rrr/map/map_verifier.h"
+#include "rrr/rrr/published/incremental_verifier.h"
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Keyframe.h"
@@ -112,7 +112,8 @@ template <class Pose>
 void VerifierNode<Pose>::Resume() {
   try {
     store_ = std::make_unique<rrr::SessionStore<Pose>>(
-        options_.database, rrr::ToString(options_.rrr.procedure));
+        options_.database, rrr::ToString(options_.rrr.procedure),
+        options_.checkpoint_keyframes);
     const rrr::ResumeSummary summary = store_->Resume(
         verifier_.get(),
         [this](rrr::PoseId, const rrr::KeyframeRecord<Pose>& keyframe) {
@@ -129,6 +130,12 @@ void VerifierNode<Pose>::Resume() {
                  "max_waiting");
           }
         });
+    if (summary.checkpoint_of_other_options) {
+      ROS_WARN(
+          "rrr_node: the checkpoint in %s was saved under other options; "
+          "every recorded update was run again",
+          options_.database.c_str());
+    }
     if (summary.differing_decisions > 0) {
       ROS_WARN(
           "rrr_node: %d decisions differ from the ones %s recorded "
@@ -139,6 +146,8 @@ void VerifierNode<Pose>::Resume() {
     status_.resumed_keyframes = summary.keyframes;
     status_.resumed_candidates = summary.candidates;
     status_.resumed_waiting_by_stamp = summary.waiting_by_stamp;
+    status_.resumed_from_update =
+        static_cast<uint64_t>(summary.checkpoint_update);
     status_.waiting_by_stamp = static_cast<uint32_t>(stamped_waiting_.size());
     status_.updates = summary.updates;
     if (summary.keyframes > 0) {
@@ -148,9 +157,11 @@ void VerifierNode<Pose>::Resume() {
     }
     ROS_INFO(
         "rrr_node: session %s: resumed %d keyframes, %d candidates (and %d "
-        "waiting by stamp), %d updates",
+        "waiting by stamp), %d updates (from the checkpoint after update "
+        "%lld; 0: none)",
         options_.database.c_str(), summary.keyframes, summary.candidates,
-        summary.waiting_by_stamp, summary.updates);
+        summary.waiting_by_stamp, summary.updates,
+        static_cast<long long>(summary.checkpoint_update));
   } catch (const rrr::SessionError& e) {
     throw std::invalid_argument(std::string("database: ") + e.what());
   }
@@ -358,7 +369,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
       finish ? verifier_->Finish() : verifier_->Update();
   if (store_) {
     try {
-      store_->CommitUpdate(finish, changes);
+      store_->CommitUpdate(finish, changes, verifier_.get());
     } catch (const rrr::SessionError& e) {
       {
         std::lock_guard<std::mutex> lock(state_mutex_);

@@ -3,6 +3,7 @@
 #define RRR_GEOMETRY_POSE2_H_
 
 #include <Eigen/Core>
+#include <array>
 
 namespace rrr {
 
@@ -36,6 +37,13 @@ class Pose2 {
   Pose2 between(const Pose2& other) const { return inverse() * other; }
   // Rotation angle of the pose in radians, in [0, pi].
   double angle() const;
+
+  // The numbers the pose holds, bit for bit: x, y, theta and the cosine and
+  // sine of theta as composition left them; FromParts gives the pose back
+  // exactly (for saved states).
+  using Parts = std::array<double, 5>;
+  Parts parts() const { return {t_.x(), t_.y(), theta_, cos_, sin_}; }
+  static Pose2 FromParts(const Parts& parts);
 
   static Pose2 Exp(const Tangent& xi);
   // Exact inverse of Exp for rotations in (-pi, pi].

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 
 namespace rrr {
 
@@ -27,6 +28,15 @@ class Pose3 {
   const Eigen::Quaterniond& quaternion() const { return q_; }
   const Translation& translation() const { return t_; }
   Eigen::Matrix3d rotation() const { return q_.toRotationMatrix(); }
+
+  // The numbers the pose holds, bit for bit: the quaternion's w, x, y, z and
+  // the translation; FromParts gives the pose back exactly (for saved
+  // states; the quaternion is not normalized again).
+  using Parts = std::array<double, 7>;
+  Parts parts() const {
+    return {q_.w(), q_.x(), q_.y(), q_.z(), t_.x(), t_.y(), t_.z()};
+  }
+  static Pose3 FromParts(const Parts& parts);
 
   // this · other.
   Pose3 operator*(const Pose3& other) const;

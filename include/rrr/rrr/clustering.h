@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rrr/graph/pose_graph.h"
+#include "rrr/io/byte_stream.h"
 
 namespace rrr {
 
@@ -29,6 +30,11 @@ class Clustering {
   // Closes cluster `c`: later loops do not join it.
   void Close(int c) { clusters_.at(c).closed = true; }
   const std::vector<Cluster>& clusters() const { return clusters_; }
+
+  // Writes the clusters; Restore reads them into a clustering of the same
+  // window that has none, which then equals this one.
+  void Save(ByteWriter* out) const;
+  void Restore(ByteReader* in);
 
  private:
   PoseId window_;

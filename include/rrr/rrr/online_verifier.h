@@ -12,6 +12,7 @@
 
 #include "rrr/graph/candidate_defect.h"
 #include "rrr/graph/pose_graph.h"
+#include "rrr/io/byte_stream.h"
 #include "rrr/rrr/options.h"
 
 namespace rrr {
@@ -101,6 +102,23 @@ class OnlineVerifier {
   // Number of consistency solves run so far.
   int num_solves() const { return num_solves_; }
 
+  // The verifier's state after its last Update() or Finish(), as bytes that
+  // RestoreState reads back, or "" if this verifier does not save its state
+  // (a session is then resumed by running every update again).
+  virtual std::string SaveState() const { return {}; }
+  // Whether `state` was saved by a verifier of this kind under the same
+  // options, so that RestoreState takes it. Throws std::runtime_error if
+  // `state` is not a saved state of this kind of verifier.
+  virtual bool SavedUnderSameOptions(const std::string& state) const;
+  // For a new verifier with the same options, given the same inputs (in the
+  // same order) as the one that saved `state` had been given when it saved
+  // it, and no Update() since: restores that state, so that it goes on to
+  // decide exactly as that one would have. Throws std::runtime_error naming
+  // the problem if `state` is not a state of such a verifier (the verifier
+  // must then be discarded), and std::logic_error if this verifier does not
+  // restore states (SaveState gives "").
+  virtual void RestoreState(const std::string& state);
+
  protected:
   // The candidate of graph loop `loop`.
   int candidate_of_loop(int loop) const { return candidate_of_loop_[loop]; }
@@ -119,6 +137,11 @@ class OnlineVerifier {
   // and call CountReclustering when they change an entry they had set.
   std::vector<int> cluster_of_loop_;
   void CountReclustering() { ++num_reclusterings_; }
+  // The part of SaveState and RestoreState this class keeps: the inputs'
+  // counts (checked on restoring), every candidate's state, the counters and
+  // cluster_of_loop_.
+  void SaveRecord(ByteWriter* out) const;
+  void RestoreRecord(ByteReader* in);
 
  private:
   struct Candidate {

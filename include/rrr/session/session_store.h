@@ -23,16 +23,25 @@ class SessionError : public std::runtime_error {
       : std::runtime_error(path + ": " + problem) {}
 };
 
-// The schema version this library writes. It reads this one and version 1
-// (which had no candidates waiting by stamp), and brings a version 1
-// database it opens to record (SessionStore) up to this one.
-constexpr int kSessionSchemaVersion = 2;
+// The schema version this library writes. It reads this one and versions 1
+// (which had no candidates waiting by stamp) and 2 (no checkpoint), and
+// brings an older database it opens to record (SessionStore) up to this one.
+constexpr int kSessionSchemaVersion = 3;
+
+// Keyframes between two checkpoints of a session by default (SessionStore).
+constexpr int kDefaultCheckpointKeyframes = 1000;
 
 // What Resume found and did.
 struct ResumeSummary {
   int keyframes = 0;
   int candidates = 0;
-  int updates = 0;
+  int updates = 0;  // recorded, whether run again or restored
+  // The update whose saved state was restored (0: none, every update was
+  // run again).
+  std::int64_t checkpoint_update = 0;
+  // A checkpoint was found but not restored: it was saved under other
+  // options, so every update was run again.
+  bool checkpoint_of_other_options = false;
   // Candidates whose replayed state differs from the recorded one (0 unless
   // the verifier's options changed between the runs).
   int differing_decisions = 0;
@@ -65,18 +74,24 @@ class SessionStore {
   using Information = typename Constraint<Pose>::Information;
 
   // Opens the database at `path`, creating it (with the schema) if it does
-  // not exist. `procedure` names the decision procedure that writes it. Throws
-  // SessionError naming the file if it is not a session database, if its
-  // schema version is not kSessionSchemaVersion, or if it was recorded in
-  // the other dimension or with another procedure.
-  SessionStore(const std::string& path, const std::string& procedure);
+  // not exist. `procedure` names the decision procedure that writes it.
+  // Every `checkpoint_keyframes` keyframes (0: never), CommitUpdate saves the
+  // verifier's state with the update, so that Resume need not run every
+  // update again. Throws SessionError naming the file if it is not a session
+  // database, if its schema version is not one this library reads, or if it
+  // was recorded in the other dimension or with another procedure.
+  SessionStore(const std::string& path, const std::string& procedure,
+               int checkpoint_keyframes = kDefaultCheckpointKeyframes);
   ~SessionStore();
   SessionStore(const SessionStore&) = delete;
   SessionStore& operator=(const SessionStore&) = delete;
 
   // Feeds the recorded session to `verifier`, which must be new, in the order
   // it was recorded, running Update() (or Finish()) where the recording ran
-  // one; calls `on_keyframe` with each keyframe's id and record in order
+  // one, except that the updates up to the checkpoint are not run again: the
+  // verifier's state saved there is restored after the inputs it had seen
+  // (unless it was saved under other options). Calls `on_keyframe` with
+  // each keyframe's id and record in order
   // (a std::logic_error it throws, such as std::invalid_argument, fails the
   // resume with a SessionError naming the input). Compares the replayed
   // decisions with the recorded ones. Then calls `on_waiting` (if given)
@@ -106,9 +121,13 @@ class SessionStore {
   // candidate, recorded with RecordCandidate, or refused).
   void RecordStampedResolved(std::int64_t key);
   // Writes what was recorded since the last commit and the update that
-  // followed it (`finish`: a Finish()) with its changes, in one transaction.
-  // Throws SessionError if the database cannot be written.
-  void CommitUpdate(bool finish, const std::vector<DecisionChange>& changes);
+  // followed it (`finish`: a Finish()) with its changes, in one transaction;
+  // with them, once `checkpoint_keyframes` keyframes were committed since
+  // the last checkpoint, the state of `verifier` (if given, and if it saves
+  // one), which replaces the last checkpoint. Throws SessionError if the
+  // database cannot be written.
+  void CommitUpdate(bool finish, const std::vector<DecisionChange>& changes,
+                    const OnlineVerifier<Pose>* verifier = nullptr);
 
   // Inputs recorded and not yet committed.
   int num_uncommitted() const;
@@ -126,7 +145,13 @@ struct SessionContents {
   AnyPoseGraph graph;
   std::vector<LoopState> loop_states;  // by loop index of `graph`
   std::string procedure;
-  int updates = 0;
+  int updates = 0;  // recorded, whether run again or restored
+  // The update whose saved state was restored (0: none, every update was
+  // run again).
+  std::int64_t checkpoint_update = 0;
+  // A checkpoint was found but not restored: it was saved under other
+  // options, so every update was run again.
+  bool checkpoint_of_other_options = false;
   int candidates_waiting = 0;  // candidates naming a pose never recorded
   int waiting_by_stamp = 0;    // candidates named by stamp, waiting
 };

@@ -36,6 +36,15 @@ Pose2::Pose2(double x, double y, double theta)
 Pose2::Pose2(const Translation& t, double theta, double cos, double sin)
     : t_(t), theta_(WrapAngle(theta)), cos_(cos), sin_(sin) {}
 
+Pose2 Pose2::FromParts(const Parts& parts) {
+  Pose2 p;
+  p.t_ << parts[0], parts[1];
+  p.theta_ = parts[2];
+  p.cos_ = parts[3];
+  p.sin_ = parts[4];
+  return p;
+}
+
 Eigen::Matrix2d Pose2::rotation() const {
   Eigen::Matrix2d r;
   r << cos_, -sin_, sin_, cos_;

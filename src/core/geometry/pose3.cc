@@ -78,6 +78,13 @@ Matrix3 LeftJacobianQ(const Vector3& rho, const Vector3& phi) {
 Pose3::Pose3(const Eigen::Quaterniond& q, const Eigen::Vector3d& t)
     : q_(q.normalized()), t_(t) {}
 
+Pose3 Pose3::FromParts(const Parts& parts) {
+  Pose3 p;
+  p.q_ = Eigen::Quaterniond(parts[0], parts[1], parts[2], parts[3]);
+  p.t_ << parts[4], parts[5], parts[6];
+  return p;
+}
+
 Pose3 Pose3::operator*(const Pose3& other) const {
   return Pose3(q_ * other.q_, t_ + q_ * other.t_);
 }

@@ -31,6 +31,28 @@ int Clustering::Add(int loop, PoseId a, PoseId b) {
   return static_cast<int>(clusters_.size()) - 1;
 }
 
+void Clustering::Save(ByteWriter* out) const {
+  out->Int(static_cast<std::int64_t>(clusters_.size()));
+  for (const Cluster& c : clusters_) {
+    for (const PoseId id : {c.start_low, c.start_high, c.end_low, c.end_high}) {
+      out->Int(id);
+    }
+    out->Ints(c.loops);
+    out->Int(c.closed ? 1 : 0);
+  }
+}
+
+void Clustering::Restore(ByteReader* in) {
+  clusters_.resize(in->Count("clusters", 5 * sizeof(std::int64_t)));
+  for (Cluster& c : clusters_) {
+    for (PoseId* id : {&c.start_low, &c.start_high, &c.end_low, &c.end_high}) {
+      *id = in->Int("a cluster's bounds");
+    }
+    c.loops = in->Ints("a cluster's loops");
+    c.closed = in->Int("whether a cluster is closed") != 0;
+  }
+}
+
 std::vector<Cluster> ClusterInBatchOrder(
     const std::vector<std::pair<PoseId, PoseId>>& loop_ends, PoseId window,
     std::vector<int>* cluster_of_loop) {

@@ -155,6 +155,65 @@ std::vector<int> OnlineVerifier<Pose>::AcceptedLoops() const {
 }
 
 template <class Pose>
+bool OnlineVerifier<Pose>::SavedUnderSameOptions(const std::string&) const {
+  throw std::runtime_error("this verifier does not restore saved states");
+}
+
+template <class Pose>
+void OnlineVerifier<Pose>::RestoreState(const std::string&) {
+  throw std::logic_error("this verifier does not restore saved states");
+}
+
+template <class Pose>
+void OnlineVerifier<Pose>::SaveRecord(ByteWriter* out) const {
+  out->Int(graph_.num_poses());
+  out->Int(static_cast<std::int64_t>(graph_.loops().size()));
+  std::string states;
+  for (const Candidate& c : candidates_) {
+    states.push_back(static_cast<char>(c.state));
+  }
+  out->Text(states);
+  out->Int(num_solves_);
+  out->Int(num_reclusterings_);
+  out->Ints(cluster_of_loop_);
+}
+
+template <class Pose>
+void OnlineVerifier<Pose>::RestoreRecord(ByteReader* in) {
+  const std::int64_t poses = in->Int("the number of poses");
+  const std::int64_t loops = in->Int("the number of loops");
+  const std::string states = in->Text("the candidates' states");
+  if (poses != graph_.num_poses() ||
+      loops != static_cast<std::int64_t>(graph_.loops().size()) ||
+      states.size() != candidates_.size()) {
+    throw std::runtime_error(
+        "the state was saved with " + std::to_string(poses) + " poses, " +
+        std::to_string(loops) + " loops and " + std::to_string(states.size()) +
+        " candidates, but the verifier has " +
+        std::to_string(graph_.num_poses()) + ", " +
+        std::to_string(graph_.loops().size()) + " and " +
+        std::to_string(candidates_.size()));
+  }
+  std::vector<DecisionChange> ignored;
+  for (size_t c = 0; c < states.size(); ++c) {
+    const int state = static_cast<unsigned char>(states[c]);
+    if (state > static_cast<int>(LoopState::kRejected)) {
+      throw std::runtime_error("candidate " + std::to_string(c) +
+                               " has the unknown state " +
+                               std::to_string(state));
+    }
+    SetState(static_cast<int>(c), static_cast<LoopState>(state), &ignored);
+  }
+  num_solves_ = static_cast<int>(in->Int("the number of solves"));
+  num_reclusterings_ = static_cast<int>(in->Int("the reclusterings"));
+  cluster_of_loop_ = in->Ints("the loops' clusters");
+  if (cluster_of_loop_.size() > graph_.loops().size()) {
+    throw std::runtime_error(
+        "the state clusters more loops than the graph has");
+  }
+}
+
+template <class Pose>
 std::vector<DecisionChange> OnlineVerifier<Pose>::SetStates(
     const std::vector<LoopState>& next) {
   std::vector<DecisionChange> changes;

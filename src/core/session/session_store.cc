@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 
+#include "compressed_blob.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "session_codec.h"
@@ -17,13 +18,16 @@ namespace rrr {
 template <class Pose>
 class SessionStore<Pose>::Impl {
  public:
-  Impl(const std::string& path, const std::string& procedure) : db(path, true) {
+  Impl(const std::string& path, const std::string& procedure,
+       int checkpoint_keyframes)
+      : db(path, true), checkpoint_keyframes(checkpoint_keyframes) {
     db.Execute("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL;");
     SqliteStatement count(&db, "SELECT count(*) FROM sqlite_master");
     count.Step();
     if (count.Int(0) == 0) {
       db.Execute(std::string("BEGIN;") + kSchema +
-                 StampedWaitingTable<Pose>::kSchema + "COMMIT;");
+                 StampedWaitingTable<Pose>::kSchema + kCheckpointSchema +
+                 "COMMIT;");
       SqliteStatement meta(&db, "INSERT INTO meta(key, value) VALUES (?, ?)");
       const std::pair<std::string, std::string> rows[] = {
           {"schema_version", std::to_string(kSessionSchemaVersion)},
@@ -39,9 +43,10 @@ class SessionStore<Pose>::Impl {
     }
     int version = 0;
     const int dimension = CheckSchema(&db, &version);
-    if (version == 1) {  // brought up to this version: the table it lacked
-      db.Execute(std::string("BEGIN;") + StampedWaitingTable<Pose>::kSchema +
-                 "UPDATE meta SET value = '" +
+    if (version < kSessionSchemaVersion) {  // brought up: the tables it lacked
+      db.Execute(std::string("BEGIN;") +
+                 (version == 1 ? StampedWaitingTable<Pose>::kSchema : "") +
+                 kCheckpointSchema + "UPDATE meta SET value = '" +
                  std::to_string(kSessionSchemaVersion) +
                  "' WHERE key = 'schema_version'; COMMIT;");
     }
@@ -74,6 +79,9 @@ class SessionStore<Pose>::Impl {
   }
 
   SqliteDb db;
+  int checkpoint_keyframes;
+  // Keyframes committed (or resumed) since the last checkpoint.
+  std::int64_t keyframes_since_checkpoint = 0;
   // Prepared once, used by every CommitUpdate.
   std::unique_ptr<SqliteStatement> insert_input, insert_update, insert_decision;
   std::int64_t next_seq = 1, next_update = 1;
@@ -92,8 +100,9 @@ class SessionStore<Pose>::Impl {
 
 template <class Pose>
 SessionStore<Pose>::SessionStore(const std::string& path,
-                                 const std::string& procedure)
-    : impl_(std::make_unique<Impl>(path, procedure)) {}
+                                 const std::string& procedure,
+                                 int checkpoint_keyframes)
+    : impl_(std::make_unique<Impl>(path, procedure, checkpoint_keyframes)) {}
 
 template <class Pose>
 SessionStore<Pose>::~SessionStore() = default;
@@ -161,8 +170,11 @@ void SessionStore<Pose>::RecordStampedResolved(std::int64_t key) {
 
 template <class Pose>
 void SessionStore<Pose>::CommitUpdate(
-    bool finish, const std::vector<DecisionChange>& changes) {
+    bool finish, const std::vector<DecisionChange>& changes,
+    const OnlineVerifier<Pose>* verifier) {
   SqliteDb& db = impl_->db;
+  std::int64_t keyframes = impl_->keyframes_since_checkpoint;
+  for (const auto& row : impl_->pending) keyframes += row.kind != kLoop;
   db.Execute("BEGIN IMMEDIATE");
   try {
     SqliteStatement& insert = *impl_->insert_input;
@@ -207,7 +219,24 @@ void SessionStore<Pose>::CommitUpdate(
       decision.Reset();
     }
     impl_->waiting->Write();
+    if (verifier && impl_->checkpoint_keyframes > 0 &&
+        keyframes >= impl_->checkpoint_keyframes) {
+      const std::string state = verifier->SaveState();
+      if (!state.empty()) {
+        db.Execute("DELETE FROM checkpoint");
+        SqliteStatement checkpoint(
+            &db,
+            "INSERT INTO checkpoint(update_number, last_seq, state) VALUES "
+            "(?, ?, ?)");
+        checkpoint.Bind(1, impl_->next_update);
+        checkpoint.Bind(2, seq - 1);
+        checkpoint.BindBlob(3, Compress(state));
+        checkpoint.Step();
+        keyframes = 0;
+      }
+    }
     db.Execute("COMMIT");
+    impl_->keyframes_since_checkpoint = keyframes;
     impl_->next_seq = seq;
     ++impl_->next_update;
     impl_->pending.clear();
@@ -232,16 +261,45 @@ ResumeSummary SessionStore<Pose>::Resume(
   SqliteDb& db = impl_->db;
   const std::vector<UpdateRow> updates = ReadUpdates(&db);
   ResumeSummary summary;
+  CheckpointRow checkpoint;
+  bool restore = false;
+  if (ReadCheckpoint(&db, &checkpoint)) {
+    try {
+      checkpoint.state = Decompress(checkpoint.state);
+      restore = verifier->SavedUnderSameOptions(checkpoint.state);
+    } catch (const std::runtime_error& e) {
+      db.Fail("the checkpoint after update " +
+              std::to_string(checkpoint.update_number) + ": " + e.what());
+    }
+    summary.checkpoint_of_other_options = !restore;
+  }
+  // Restores the checkpoint, once the inputs up to its last_seq are in.
+  const auto restore_checkpoint = [&] {
+    try {
+      verifier->RestoreState(checkpoint.state);
+    } catch (const std::runtime_error& e) {
+      db.Fail("the checkpoint after update " +
+              std::to_string(checkpoint.update_number) + ": " + e.what());
+    }
+    summary.checkpoint_update = checkpoint.update_number;
+    restore = false;
+    impl_->keyframes_since_checkpoint = 0;
+  };
   size_t next = 0;
   const auto run_updates_through = [&](std::int64_t seq) {
     for (; next < updates.size() && updates[next].last_seq <= seq; ++next) {
+      ++summary.updates;
+      if (restore && updates[next].number <= checkpoint.update_number) {
+        continue;  // its work is in the checkpoint
+      }
+      if (restore) restore_checkpoint();
       if (updates[next].finish) {
         verifier->Finish();
       } else {
         verifier->Update();
       }
-      ++summary.updates;
     }
+    if (restore && seq == checkpoint.last_seq) restore_checkpoint();
   };
   run_updates_through(0);
   std::int64_t last_stamp_ns = std::numeric_limits<std::int64_t>::min();
@@ -279,10 +337,18 @@ ResumeSummary SessionStore<Pose>::Resume(
     } catch (const std::logic_error& e) {  // incl. DegenerateCandidate
       db.Fail(at + e.what());
     }
-    if (row.kind != kLoop) ++summary.keyframes;
+    if (row.kind != kLoop) {
+      ++summary.keyframes;
+      ++impl_->keyframes_since_checkpoint;
+    }
     run_updates_through(row.seq);
   });
   run_updates_through(std::numeric_limits<std::int64_t>::max());
+  if (restore) {
+    db.Fail("the checkpoint after update " +
+            std::to_string(checkpoint.update_number) + " follows input " +
+            std::to_string(checkpoint.last_seq) + ", which is not recorded");
+  }
   for (const auto& [candidate, state] : ReadFinalStates(&db)) {
     if (candidate >= verifier->num_candidates() ||
         verifier->state(candidate) != state) {

@@ -40,18 +40,20 @@ class SessionStoreTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  // Feeds the world's first `poses` poses (and the candidates that have
-  // both poses by then) to `verifier` and `store` as the node does: an
-  // update after every `update_every` poses, each committed.
+  // Feeds the world's poses from `first` to `poses` - 1 (and the candidates
+  // that have both poses by then) to `verifier` and `store` as the node
+  // does: an update after every `update_every` poses, each committed with
+  // the verifier (for checkpoints).
   void Record(MapVerifier<Pose2>* verifier, SessionStore<Pose2>* store,
-              int poses, int update_every, bool commit_last = true) {
+              int poses, int update_every, bool commit_last = true,
+              int first = 0) {
     const auto& g = world_.graph;
     std::vector<std::vector<int>> loops_at(g.num_poses());
     for (size_t k = 0; k < g.loops().size(); ++k) {
       const auto& l = g.loops()[k];
       loops_at[std::max(l.from, l.to)].push_back(static_cast<int>(k));
     }
-    for (int p = 0; p < poses; ++p) {
+    for (int p = first; p < poses; ++p) {
       KeyframeRecord<Pose2> keyframe;
       keyframe.stamp_ns = 1000000000LL * p;
       keyframe.odometry_pose = g.estimates()[p];
@@ -76,7 +78,9 @@ class SessionStoreTest : public ::testing::Test {
       const bool last = p + 1 == poses;
       if ((p + 1) % update_every == 0 || last) {
         const auto changes = verifier->Update();
-        if (!last || commit_last) store->CommitUpdate(false, changes);
+        if (!last || commit_last) {
+          store->CommitUpdate(false, changes, verifier);
+        }
       }
     }
   }
@@ -385,6 +389,108 @@ TEST_F(SessionStoreTest, BringsAVersionOneDatabaseUpToDate) {
               ReadSession(path_);
             }).find("it is not a session database of rrr"),
             std::string::npos);
+}
+
+TEST_F(SessionStoreTest, ResumesFromTheCheckpointAsIfEveryUpdateHadRun) {
+  MapVerifier<Pose2> original{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map", /*checkpoint_keyframes=*/100);
+    Record(&original, &store, 650, 7);
+  }
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map", 100);
+  const ResumeSummary summary = store.Resume(&resumed, nullptr);
+  // A checkpoint came with each commit that brought 100 keyframes or more
+  // since the last: the last with update 90 (after 630 poses); the three
+  // updates after it ran again.
+  EXPECT_EQ(summary.checkpoint_update, 90);
+  EXPECT_FALSE(summary.checkpoint_of_other_options);
+  EXPECT_EQ(summary.updates, (650 + 6) / 7);
+  EXPECT_EQ(summary.keyframes, 650);
+  EXPECT_EQ(summary.differing_decisions, 0);
+  EXPECT_EQ(States(resumed), States(original));
+  // Both go on alike to the end of the world.
+  Record(&resumed, &store, world_.graph.num_poses(), 7, true, 650);
+  SessionStore<Pose2> scratch((dir_ / "scratch.db").string(), "map", 0);
+  Record(&original, &scratch, world_.graph.num_poses(), 7, true, 650);
+  EXPECT_EQ(States(resumed), States(original));
+  EXPECT_GT(original.AcceptedLoops().size(), 0u);
+}
+
+TEST_F(SessionStoreTest, ACrashedSessionResumesFromItsCheckpoint) {
+  {
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    SessionStore<Pose2> store(path_, "map", 50);
+    Record(&verifier, &store, 400, 10, /*commit_last=*/false);
+  }
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map", 50);
+  const ResumeSummary summary = store.Resume(&resumed, nullptr);
+  EXPECT_EQ(summary.checkpoint_update, 35);  // after pose 349
+  EXPECT_EQ(summary.keyframes, 390);
+  MapVerifier<Pose2> reference{RrrOptions()};
+  {
+    SessionStore<Pose2> fresh((dir_ / "reference.db").string(), "map", 0);
+    Record(&reference, &fresh, summary.keyframes, 10);
+  }
+  EXPECT_EQ(States(resumed), States(reference));
+}
+
+TEST_F(SessionStoreTest, RunsEveryUpdateAgainWhenTheOptionsChanged) {
+  {
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    SessionStore<Pose2> store(path_, "map", 100);
+    Record(&verifier, &store, 500, 10);
+  }
+  RrrOptions other;
+  other.noise_margin = 4.0;
+  MapVerifier<Pose2> resumed(other);
+  SessionStore<Pose2> store(path_, "map", 100);
+  const ResumeSummary summary = store.Resume(&resumed, nullptr);
+  EXPECT_TRUE(summary.checkpoint_of_other_options);
+  EXPECT_EQ(summary.checkpoint_update, 0);
+  EXPECT_EQ(summary.updates, 50);
+  MapVerifier<Pose2> reference(other);
+  {
+    SessionStore<Pose2> fresh((dir_ / "reference.db").string(), "map", 0);
+    Record(&reference, &fresh, 500, 10);
+  }
+  EXPECT_EQ(States(resumed), States(reference));
+}
+
+TEST_F(SessionStoreTest, RefusesACheckpointThatIsNotOne) {
+  {
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    SessionStore<Pose2> store(path_, "map", 100);
+    Record(&verifier, &store, 300, 10);
+  }
+  for (const char* state : {"x'00'", "substr(state, 1, 4000)"}) {
+    Tamper(path_, std::string("UPDATE checkpoint SET state = ") + state);
+    MapVerifier<Pose2> resumed{RrrOptions()};
+    SessionStore<Pose2> store(path_, "map");
+    const std::string error = ErrorOf([&] { store.Resume(&resumed, nullptr); });
+    EXPECT_EQ(error.rfind(path_, 0), 0u) << error;
+    EXPECT_NE(error.find("the checkpoint after update 30: "), std::string::npos)
+        << error;
+  }
+}
+
+TEST_F(SessionStoreTest, BringsAVersionTwoDatabaseUpToDate) {
+  RecordFirstPoses(200);
+  Tamper(path_,
+         "DROP TABLE checkpoint; UPDATE meta SET value = '2' WHERE key = "
+         "'schema_version'");
+  EXPECT_EQ(std::get<PoseGraph2>(ReadSession(path_).graph).num_poses(), 200);
+  MapVerifier<Pose2> resumed{RrrOptions()};
+  {
+    SessionStore<Pose2> store(path_, "map", 1);
+    EXPECT_EQ(store.Resume(&resumed, nullptr).checkpoint_update, 0);
+    store.CommitUpdate(false, resumed.Update(), &resumed);
+  }
+  MapVerifier<Pose2> again{RrrOptions()};
+  SessionStore<Pose2> store(path_, "map");
+  EXPECT_EQ(store.Resume(&again, nullptr).checkpoint_update, 21);
+  EXPECT_EQ(States(again), States(resumed));
 }
 
 TEST_F(SessionStoreTest, RefusesAWaitingCandidateThatIsNotOne) {

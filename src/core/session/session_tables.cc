@@ -1,5 +1,7 @@
 #include "session_tables.h"
 
+#include <utility>
+
 namespace rrr {
 
 std::vector<UpdateRow> ReadUpdates(SqliteDb* db) {
@@ -28,6 +30,17 @@ std::map<int, LoopState> ReadFinalStates(SqliteDb* db) {
   return states;
 }
 
+bool ReadCheckpoint(SqliteDb* db, CheckpointRow* checkpoint) {
+  SqliteStatement query(db,
+                        "SELECT update_number, last_seq, state FROM checkpoint "
+                        "ORDER BY update_number DESC LIMIT 1");
+  if (!query.Step()) return false;
+  checkpoint->update_number = query.Int(0);
+  checkpoint->last_seq = query.Int(1);
+  checkpoint->state = query.Blob(2);
+  return true;
+}
+
 std::string MetaValue(SqliteDb* db, const std::string& key) {
   SqliteStatement query(db, "SELECT value FROM meta WHERE key = ?");
   query.Bind(1, key);
@@ -39,20 +52,30 @@ std::string MetaValue(SqliteDb* db, const std::string& key) {
 // reads (1 or kSessionSchemaVersion); returns its dimension (2 or 3) and
 // sets `*version`.
 int CheckSchema(SqliteDb* db, int* version) {
-  SqliteStatement tables(
-      db,
-      "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND "
-      "name IN ('meta', 'inputs', 'updates', 'decisions', "
-      "'waiting_by_stamp')");
-  tables.Step();
   const std::string text = MetaValue(db, "schema_version");
-  if (text == "1" || text == std::to_string(kSessionSchemaVersion)) {
-    *version = std::stoi(text);
-  } else {
+  *version = 0;
+  for (int v = 1; v <= kSessionSchemaVersion; ++v) {
+    if (text == std::to_string(v)) *version = v;
+  }
+  if (*version == 0) {
     db->Fail("schema version " + text + ", but this rrr reads versions 1 to " +
              std::to_string(kSessionSchemaVersion));
   }
-  if (tables.Int(0) != (*version == 1 ? 4 : 5)) {
+  // Version 2 added waiting_by_stamp, version 3 the checkpoint.
+  std::string tables = "'meta', 'inputs', 'updates', 'decisions'";
+  int expected = 4;
+  for (const auto& [since, table] : {std::make_pair(2, "'waiting_by_stamp'"),
+                                     std::make_pair(3, "'checkpoint'")}) {
+    if (*version < since) continue;
+    tables += std::string(", ") + table;
+    ++expected;
+  }
+  SqliteStatement count(db,
+                        "SELECT count(*) FROM sqlite_master WHERE type = "
+                        "'table' AND name IN (" +
+                            tables + ")");
+  count.Step();
+  if (count.Int(0) != expected) {
     db->Fail("it is not a session database of rrr");
   }
   const std::string dimension = MetaValue(db, "dimension");

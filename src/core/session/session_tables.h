@@ -40,6 +40,22 @@ CREATE TABLE decisions(update_number INTEGER NOT NULL,
   candidate INTEGER NOT NULL, state INTEGER NOT NULL);
 )sql";
 
+// At most one row: the verifier's state (OnlineVerifier::SaveState, stored
+// compressed by Compress) after update `update_number`, which came after the
+// inputs up to `last_seq`.
+inline constexpr const char* kCheckpointSchema = R"sql(
+CREATE TABLE IF NOT EXISTS checkpoint(update_number INTEGER PRIMARY KEY,
+  last_seq INTEGER NOT NULL, state BLOB NOT NULL);
+)sql";
+
+// The checkpoint, if the database has one.
+struct CheckpointRow {
+  std::int64_t update_number = 0;
+  std::int64_t last_seq = 0;
+  std::string state;
+};
+bool ReadCheckpoint(SqliteDb* db, CheckpointRow* checkpoint);
+
 inline constexpr const char* kInsertInput =
     "INSERT INTO inputs(seq, kind, pose_id, stamp_ns, odometry_pose, "
     "covariance, candidate, from_id, to_id, measurement, information) "
@@ -123,8 +139,8 @@ std::map<int, LoopState> ReadFinalStates(SqliteDb* db);
 std::string MetaValue(SqliteDb* db, const std::string& key);
 
 // Checks that `db` is a session database of a schema version this library
-// reads (1 or kSessionSchemaVersion); returns its dimension (2 or 3) and
-// sets `*version`.
+// reads (1 to kSessionSchemaVersion) with the tables of that version;
+// returns its dimension (2 or 3) and sets `*version`.
 int CheckSchema(SqliteDb* db, int* version);
 
 }  // namespace rrr

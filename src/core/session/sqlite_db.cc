@@ -73,6 +73,12 @@ void SqliteStatement::Bind(int index, const std::vector<double>& values) {
              "bind");
 }
 
+void SqliteStatement::BindBlob(int index, const std::string& bytes) {
+  db_->Check(sqlite3_bind_blob64(statement_, index, bytes.data(), bytes.size(),
+                                 SQLITE_TRANSIENT),
+             "bind");
+}
+
 bool SqliteStatement::Step() {
   const int code = sqlite3_step(statement_);
   db_->Check(code, "cannot read or write the session");
@@ -112,6 +118,12 @@ std::vector<double> SqliteStatement::Doubles(int column, size_t count) const {
   std::vector<double> values(count);
   if (count > 0) std::memcpy(values.data(), blob, bytes);
   return values;
+}
+
+std::string SqliteStatement::Blob(int column) const {
+  const void* blob = sqlite3_column_blob(statement_, column);
+  const int bytes = sqlite3_column_bytes(statement_, column);
+  return blob ? std::string(static_cast<const char*>(blob), bytes) : "";
 }
 
 size_t SqliteStatement::NumBytes(int column) const {

@@ -26,6 +26,7 @@ class SqliteStatement {
   void Bind(int index, const std::string& text);
   void BindNull(int index);
   void Bind(int index, const std::vector<double>& values);  // as a blob
+  void BindBlob(int index, const std::string& bytes);
   // Runs to the next row; false when there are no more.
   bool Step();
   void Reset();
@@ -35,6 +36,8 @@ class SqliteStatement {
   std::string Text(int column) const;
   // A blob of `count` doubles; throws SessionError if it is another size.
   std::vector<double> Doubles(int column, size_t count) const;
+  // The blob of `column`, byte for byte.
+  std::string Blob(int column) const;
   // The size of the blob of `column` in bytes.
   size_t NumBytes(int column) const;
 

@@ -46,6 +46,21 @@ PoseGraph<Pose> NoisyChain(int n, const std::vector<std::pair<int, int>>& ab,
   return graph;
 }
 
+// A NoisyChain of 600 poses (noise 0.01) with five true loops, graph loops
+// 0 to 4, and one false loop, graph loop 5: from pose 200 to pose 500,
+// measured as the identity.
+template <class Pose>
+PoseGraph<Pose> ChainWithOneFalseLoop() {
+  PoseGraph<Pose> graph = NoisyChain<Pose>(
+      600, {{10, 136}, {12, 138}, {140, 266}, {150, 276}, {270, 396}}, 0.01);
+  Constraint<Pose> wrong = graph.loops()[0];
+  wrong.from = 200;
+  wrong.to = 500;
+  wrong.measurement = Pose();
+  graph.AddEdge(wrong);
+  return graph;
+}
+
 }  // namespace rrr::testing
 
 #endif  // RRR_CORE_TESTING_NOISY_CHAIN_H_

@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "rrr/io/byte_stream.h"
 #include "rrr/rrr/map/noise_scale.h"
 
 namespace rrr {
@@ -31,6 +32,11 @@ class LoopScaleHistory {
   // The first pose index whose entry counts at least `samples` loop samples,
   // or -1 if none does yet.
   int FirstWith(int samples) const;
+
+  // Writes the entries (as runs of equal ones); Restore reads them into a
+  // history that has none, which then equals this one.
+  void Save(ByteWriter* out) const;
+  void Restore(ByteReader* in);
 
  private:
   std::vector<double> values_;

@@ -8,6 +8,7 @@
 
 #include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/pose_graph.h"
+#include "rrr/io/byte_stream.h"
 #include "rrr/solver/local_problem.h"
 
 namespace rrr {
@@ -90,6 +91,13 @@ class MaintainedMap {
   void Relax(const std::vector<int>& loops, int radius, double significant);
   // Minimizes the error of the whole map.
   MinimizeResult Optimize();
+
+  // Writes the junctions, their estimates bit for bit, the map's loops and
+  // the last trial; Restore reads them into a map of the same graph and
+  // chain, which then equals this one. Throws std::runtime_error if the
+  // state names a pose or loop the graph does not have.
+  void Save(ByteWriter* out) const;
+  void Restore(ByteReader* in);
 
  private:
   struct Junction {

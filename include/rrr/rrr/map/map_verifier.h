@@ -155,6 +155,12 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // times the map's error over the loops'). 0 while no cluster is accepted.
   double APosterioriScale() const;
 
+  // The whole state: the record, the clusters, the map (its estimates bit
+  // for bit) and the noise-scale samples (map_verifier_state.cc).
+  std::string SaveState() const override;
+  bool SavedUnderSameOptions(const std::string& state) const override;
+  void RestoreState(const std::string& state) override;
+
  private:
   enum class Status { kPending, kRejected, kAccepted, kSetAside };
   struct ClusterRecord {

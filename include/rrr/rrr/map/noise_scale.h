@@ -77,9 +77,16 @@ class NoiseScaleEstimate {
   // "clusters" or "loops": where Value() comes from now.
   std::string Source() const;
 
+  // Writes the samples; Restore reads them into an estimate of the same
+  // residual_dim that has none, which then equals this one.
+  void Save(ByteWriter* out) const;
+  void Restore(ByteReader* in);
+
  private:
   // Sets cluster `cluster`'s error/dof to `value` (replacing its sample).
   void PutClusterSample(int cluster, double value);
+  // Takes the loops' estimate from their quantile (O(1)).
+  void UpdateFromLoops();
   // Takes the clusters' estimate from their median (O(1)).
   void UpdateFromClusters();
 

@@ -4,6 +4,8 @@
 
 #include <set>
 
+#include "rrr/io/byte_stream.h"
+
 namespace rrr {
 
 // The q-quantile of the values added so far by the nearest lower rank: the
@@ -22,6 +24,11 @@ class RunningQuantile {
   int size() const { return static_cast<int>(lower_.size() + upper_.size()); }
   // The quantile; size() must be positive.
   double Value() const { return *lower_.rbegin(); }
+
+  // Writes the values; Restore reads them into a quantile that has none,
+  // which then equals this one.
+  void Save(ByteWriter* out) const;
+  void Restore(ByteReader* in);
 
  private:
   // Moves values between the halves until `lower_` holds ⌊q·(n − 1)⌋ + 1.

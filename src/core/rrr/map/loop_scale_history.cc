@@ -1,6 +1,7 @@
 #include "rrr/rrr/map/loop_scale_history.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace rrr {
 
@@ -38,6 +39,34 @@ int LoopScaleHistory::FirstWith(int samples) const {
       std::lower_bound(samples_.begin(), samples_.end(), samples);
   return known == samples_.end() ? -1
                                  : static_cast<int>(known - samples_.begin());
+}
+
+void LoopScaleHistory::Save(ByteWriter* out) const {
+  std::vector<int> run_lengths;
+  for (int p = 0; p < size(); ++p) {
+    if (p > 0 && values_[p] == values_[p - 1] &&
+        samples_[p] == samples_[p - 1]) {
+      ++run_lengths.back();
+    } else {
+      run_lengths.push_back(1);
+    }
+  }
+  out->Ints(run_lengths);
+  int p = 0;
+  for (const int length : run_lengths) {
+    out->Double(values_[p]);
+    out->Int(samples_[p]);
+    p += length;
+  }
+}
+
+void LoopScaleHistory::Restore(ByteReader* in) {
+  for (const int length : in->Ints("loop scale runs")) {
+    const double value = in->Double("a loop scale");
+    const int samples = static_cast<int>(in->Int("a loop scale's samples"));
+    if (length < 1) throw std::runtime_error("a loop scale run is empty");
+    ExtendTo(size() + length, value, samples);
+  }
 }
 
 }  // namespace rrr

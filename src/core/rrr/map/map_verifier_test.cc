@@ -321,13 +321,7 @@ TEST(MapVerifier, APosterioriScaleFollowsTheInformationMatrices) {
 }
 
 TEST(MapVerifier, RejectsAFalseLoopIn3D) {
-  auto graph = testing::NoisyChain<Pose3>(
-      600, {{10, 136}, {12, 138}, {140, 266}, {150, 276}, {270, 396}}, 0.01);
-  Constraint<Pose3> wrong = graph.loops()[0];
-  wrong.from = 200;
-  wrong.to = 500;
-  wrong.measurement = Pose3();
-  graph.AddEdge(wrong);
+  const auto graph = testing::ChainWithOneFalseLoop<Pose3>();
   const Verdict verdict = VerifyWithMap(graph, RrrOptions());
   EXPECT_EQ(verdict.accepted, (std::vector<int>{0, 1, 2, 3, 4}));
   EXPECT_EQ(verdict.rejected, (std::vector<int>{5}));

@@ -13,6 +13,11 @@ NoiseScaleEstimate::NoiseScaleEstimate(int residual_dim)
 
 void NoiseScaleEstimate::AddLoopSample(double chi2) {
   loops_.Add(chi2 / residual_dim_);
+  UpdateFromLoops();
+}
+
+void NoiseScaleEstimate::UpdateFromLoops() {
+  if (loops_.size() == 0) return;
   // The kLoopQuantile-quantile of D²/e over that of χ²_e/e, at most 1.
   from_loops_ =
       std::min(1.0, std::max(loops_.Value(), 1e-12) / chi2_quantile_ratio_);
@@ -68,6 +73,28 @@ void NoiseScaleEstimate::UpdateFromClusters() {
     return;
   }
   from_clusters_ = std::max(cluster_median_.Value(), 1e-12);
+}
+
+void NoiseScaleEstimate::Save(ByteWriter* out) const {
+  loops_.Save(out);
+  out->Int(static_cast<std::int64_t>(clusters_.size()));
+  for (const auto& [cluster, value] : clusters_) {
+    out->Int(cluster);
+    out->Double(value);
+  }
+  out->Int(clusters_took_over_ ? 1 : 0);
+}
+
+void NoiseScaleEstimate::Restore(ByteReader* in) {
+  loops_.Restore(in);
+  UpdateFromLoops();
+  const size_t n = in->Count("cluster samples", 2 * sizeof(double));
+  for (size_t k = 0; k < n; ++k) {
+    const int cluster = static_cast<int>(in->Int("a sample's cluster"));
+    PutClusterSample(cluster, in->Double("a cluster sample"));
+  }
+  clusters_took_over_ = in->Int("whether clusters took over") != 0;
+  UpdateFromClusters();
 }
 
 double NoiseScaleEstimate::Value(double from_loops) const {

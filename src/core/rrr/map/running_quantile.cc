@@ -27,6 +27,18 @@ bool RunningQuantile::Remove(double value) {
   return true;
 }
 
+void RunningQuantile::Save(ByteWriter* out) const {
+  out->Int(size());
+  for (const auto* half : {&lower_, &upper_}) {
+    for (const double v : *half) out->Double(v);
+  }
+}
+
+void RunningQuantile::Restore(ByteReader* in) {
+  const size_t n = in->Count("quantile values", sizeof(double));
+  for (size_t k = 0; k < n; ++k) Add(in->Double("a quantile value"));
+}
+
 void RunningQuantile::Balance() {
   const std::size_t wanted =
       size() == 0

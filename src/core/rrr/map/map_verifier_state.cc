@@ -1,0 +1,168 @@
+// MapVerifier's state written and read back (OnlineVerifier::SaveState).
+#include <stdexcept>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/io/byte_stream.h"
+#include "rrr/rrr/map/map_verifier.h"
+
+namespace rrr {
+namespace {
+
+constexpr char kStateFormat[] = "rrr map procedure state, version 1";
+
+// The options that decisions depend on, as bytes: a state saved under
+// others is not restored.
+std::string DecisionOptions(const RrrOptions& o, int dof) {
+  ByteWriter out;
+  for (const std::int64_t v :
+       {static_cast<std::int64_t>(dof), static_cast<std::int64_t>(o.procedure),
+        static_cast<std::int64_t>(o.cluster_window),
+        static_cast<std::int64_t>(o.iterations),
+        static_cast<std::int64_t>(o.steps),
+        static_cast<std::int64_t>(o.span_gate),
+        static_cast<std::int64_t>(o.max_future_poses),
+        static_cast<std::int64_t>(o.max_waiting),
+        static_cast<std::int64_t>(o.decision_delay),
+        static_cast<std::int64_t>(o.map_radius),
+        static_cast<std::int64_t>(o.map_junctions),
+        static_cast<std::int64_t>(o.optimize_every),
+        static_cast<std::int64_t>(o.convergence.max_iterations)}) {
+    out.Int(v);
+  }
+  for (const double v : {o.alpha, o.noise_scale, o.noise_margin,
+                         o.optimize_growth, o.convergence.relative_decrease}) {
+    out.Double(v);
+  }
+  return out.bytes();
+}
+
+// Reads the format and the options of a state; throws std::runtime_error
+// if it is not a state of the map procedure.
+std::string OptionsOfState(ByteReader* in) {
+  if (in->Text("the format") != kStateFormat) {
+    throw std::runtime_error("it is not a state of the map procedure");
+  }
+  return in->Text("the options");
+}
+
+}  // namespace
+
+template <class Pose>
+std::string MapVerifier<Pose>::SaveState() const {
+  ByteWriter out;
+  out.Text(kStateFormat);
+  out.Text(DecisionOptions(options_, Pose::kDof));
+  this->SaveRecord(&out);
+  clustering_.Save(&out);
+  out.Int(static_cast<std::int64_t>(records_.size()));
+  for (const ClusterRecord& r : records_) {
+    out.Int(static_cast<std::int64_t>(r.status));
+    out.Ints(r.survivors);
+    out.Ints(r.left_out);
+    out.Int(r.ready_pose);
+    out.Double(r.judged_scale);
+    out.Int(r.reviewed_at);
+    out.Int(r.refuted ? 1 : 0);
+  }
+  out.Ints(pending_);
+  out.Doubles(alone_chi2_);
+  out.Ints(touched_);
+  out.Int(chain_.num_poses());
+  out.Int(map_ ? 1 : 0);
+  if (map_) map_->Save(&out);
+  scale_.Save(&out);
+  loop_scales_.Save(&out);
+  for (const int v :
+       {decision_pose_, accepted_since_optimize_, accepted_clusters_,
+        static_cast<int>(reopen_needed_), static_cast<int>(review_needed_),
+        stats_.intra_solves, stats_.quick_accepts, stats_.trials,
+        stats_.reversals, stats_.reopened, stats_.optimizations,
+        stats_.not_converged, stats_.pruned, stats_.reviewed,
+        stats_.regrouped}) {
+    out.Int(v);
+  }
+  return out.bytes();
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::SavedUnderSameOptions(const std::string& state) const {
+  ByteReader in(state);
+  return OptionsOfState(&in) == DecisionOptions(options_, Pose::kDof);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::RestoreState(const std::string& state) {
+  ByteReader in(state);
+  if (OptionsOfState(&in) != DecisionOptions(options_, Pose::kDof)) {
+    throw std::runtime_error("the state was saved under other options");
+  }
+  this->RestoreRecord(&in);
+  const PoseGraph<Pose>& graph = this->graph();
+  clustering_.Restore(&in);
+  records_.resize(in.Count("cluster records", 7 * sizeof(std::int32_t)));
+  if (records_.size() != clustering_.clusters().size()) {
+    throw std::runtime_error(
+        "the state has " + std::to_string(records_.size()) +
+        " cluster records for " +
+        std::to_string(clustering_.clusters().size()) + " clusters");
+  }
+  for (ClusterRecord& r : records_) {
+    const std::int64_t status = in.Int("a cluster's status");
+    if (status < 0 || status > static_cast<int>(Status::kSetAside)) {
+      throw std::runtime_error("a cluster has the unknown status " +
+                               std::to_string(status));
+    }
+    r.status = static_cast<Status>(status);
+    r.survivors = in.Ints("a cluster's survivors");
+    r.left_out = in.Ints("a cluster's links left out");
+    r.ready_pose = static_cast<int>(in.Int("a cluster's ready pose"));
+    r.judged_scale = in.Double("a cluster's scale");
+    r.reviewed_at = static_cast<int>(in.Int("a cluster's review"));
+    r.refuted = in.Int("whether a cluster was refuted") != 0;
+  }
+  pending_ = in.Ints("the pending clusters");
+  alone_chi2_ = in.Doubles("the loops' errors alone");
+  touched_ = in.Ints("the changed clusters");
+  const std::int64_t chain_poses = in.Int("the chain's length");
+  if (chain_poses < 1 || chain_poses > graph.num_poses()) {
+    throw std::runtime_error(
+        "the state's chain has " + std::to_string(chain_poses) +
+        " poses, the graph " + std::to_string(graph.num_poses()));
+  }
+  for (int k = chain_.num_poses(); k < chain_poses; ++k) {
+    const auto& e = graph.odometry()[k - 1];
+    chain_.Append(e.measurement, e.information);
+  }
+  if (in.Int("whether there is a map") != 0) {
+    map_ = std::make_unique<MaintainedMap<Pose>>(
+        graph, chain_, options_.convergence, options_.map_junctions);
+    map_->Restore(&in);
+  }
+  scale_.Restore(&in);
+  loop_scales_.Restore(&in);
+  for (int* v :
+       {&decision_pose_, &accepted_since_optimize_, &accepted_clusters_}) {
+    *v = static_cast<int>(in.Int("a counter"));
+  }
+  reopen_needed_ = in.Int("whether a re-opening is due") != 0;
+  review_needed_ = in.Int("whether a review is due") != 0;
+  for (int* v : {&stats_.intra_solves, &stats_.quick_accepts, &stats_.trials,
+                 &stats_.reversals, &stats_.reopened, &stats_.optimizations,
+                 &stats_.not_converged, &stats_.pruned, &stats_.reviewed,
+                 &stats_.regrouped}) {
+    *v = static_cast<int>(in.Int("a statistic"));
+  }
+  if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");
+}
+
+template std::string MapVerifier<Pose2>::SaveState() const;
+template std::string MapVerifier<Pose3>::SaveState() const;
+template bool MapVerifier<Pose2>::SavedUnderSameOptions(
+    const std::string&) const;
+template bool MapVerifier<Pose3>::SavedUnderSameOptions(
+    const std::string&) const;
+template void MapVerifier<Pose2>::RestoreState(const std::string&);
+template void MapVerifier<Pose3>::RestoreState(const std::string&);
+
+}  // namespace rrr

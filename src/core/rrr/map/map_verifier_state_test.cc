@@ -1,0 +1,174 @@
+// The map procedure's saved state: a verifier restored from it goes on to
+// decide exactly as the one that saved it; states that do not fit are
+// refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <stdexcept>
+#include <vector>
+
+#include "../../testing/noisy_chain.h"
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/graph/odometry_chain.h"
+#include "rrr/rrr/map/map_verifier.h"
+#include "rrr/rrr/published/incremental_verifier.h"
+#include "rrr/sim/simulated_world.h"
+
+namespace rrr {
+namespace {
+
+// Gives `verifier` the poses of `graph` from `first` to `last` - 1 and each
+// loop after its later pose (in arrival order), calling `after_pose` with
+// each pose index given.
+template <class Pose>
+void Feed(const PoseGraph<Pose>& graph, int first, int last,
+          OnlineVerifier<Pose>* verifier,
+          const std::function<void(int)>& after_pose) {
+  const OdometryChain<Pose> chain = ChainOf(graph);
+  for (int p = first; p < last; ++p) {
+    if (p == 0) {
+      verifier->AddFirstPose(graph.ids()[0], graph.estimates()[0]);
+    } else {
+      const Constraint<Pose> step = chain.Between(p - 1, p);
+      verifier->AddOdometry(step.measurement, step.information);
+    }
+    for (const auto& e : graph.loops()) {
+      if (std::max(e.from, e.to) == p) {
+        verifier->AddLoop(graph.ids()[e.from], graph.ids()[e.to], e.measurement,
+                          e.information);
+      }
+    }
+    if (after_pose) after_pose(p);
+  }
+}
+
+template <class Pose>
+bool SameBits(const std::vector<Pose>& a, const std::vector<Pose>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t k = 0; k < a.size(); ++k) {
+    const typename Pose::Parts pa = a[k].parts(), pb = b[k].parts();
+    if (std::memcmp(pa.data(), pb.data(), sizeof(pa)) != 0) return false;
+  }
+  return true;
+}
+
+// Runs one verifier through `graph` with an update every `every` poses, and
+// another that is given the inputs up to pose `cut` with no update, restores
+// the first one's state saved there, and goes on the same way. Expects every
+// decision, the map's estimates bit for bit and the counters to be equal.
+template <class Pose>
+void ExpectRestoredVerifierDecidesAlike(const PoseGraph<Pose>& graph, int cut,
+                                        int every) {
+  const RrrOptions options;
+  MapVerifier<Pose> original(options), restored(options);
+  std::string state;
+  const auto update_every = [&](MapVerifier<Pose>* v) {
+    return [&, v](int p) {
+      if ((p + 1) % every == 0) v->Update();
+    };
+  };
+  Feed<Pose>(graph, 0, cut, &original, update_every(&original));
+  state = original.SaveState();
+  ASSERT_FALSE(state.empty());
+  Feed<Pose>(graph, 0, cut, &restored, nullptr);
+  ASSERT_TRUE(restored.SavedUnderSameOptions(state));
+  restored.RestoreState(state);
+  const std::string again = restored.SaveState();
+  EXPECT_TRUE(again == state)
+      << "the restored state differs from byte "
+      << std::mismatch(again.begin(), again.end(), state.begin(), state.end())
+                 .first -
+             again.begin()
+      << " of " << state.size();
+  Feed<Pose>(graph, cut, graph.num_poses(), &original, update_every(&original));
+  Feed<Pose>(graph, cut, graph.num_poses(), &restored, update_every(&restored));
+  original.Finish();
+  restored.Finish();
+  int accepted = 0;
+  for (int c = 0; c < original.num_candidates(); ++c) {
+    EXPECT_EQ(restored.state(c), original.state(c)) << "candidate " << c;
+    accepted += original.state(c) == LoopState::kAccepted;
+  }
+  EXPECT_GT(accepted, 0);
+  EXPECT_TRUE(SameBits(restored.Map(), original.Map()));
+  EXPECT_EQ(restored.noise_scale(), original.noise_scale());
+  EXPECT_EQ(restored.num_solves(), original.num_solves());
+  EXPECT_EQ(restored.stats().trials, original.stats().trials);
+}
+
+SimulatedWorld GroupedWorld() {
+  WorldOptions world;
+  world.poses = 1500;
+  world.false_loops = 40;
+  world.group = 3;
+  return SimulateWorld(world);
+}
+
+TEST(MapVerifierState, ARestoredVerifierDecidesAsTheOneThatSavedIt) {
+  const SimulatedWorld w = GroupedWorld();
+  // Cut where clusters are pending, accepted and rejected, with updates
+  // after every pose and every 13.
+  for (const int cut : {400, 900}) {
+    for (const int every : {1, 13}) {
+      SCOPED_TRACE("cut " + std::to_string(cut) + ", every " +
+                   std::to_string(every));
+      ExpectRestoredVerifierDecidesAlike(w.graph, cut, every);
+    }
+  }
+}
+
+TEST(MapVerifierState, ARestoredVerifierDecidesAsTheOneThatSavedItIn3D) {
+  const auto graph = testing::ChainWithOneFalseLoop<Pose3>();
+  ExpectRestoredVerifierDecidesAlike(graph, 450, 7);
+}
+
+TEST(MapVerifierState, AStateOfOtherOptionsIsNotRestored) {
+  const SimulatedWorld w = GroupedWorld();
+  MapVerifier<Pose2> saver{RrrOptions()};
+  Feed<Pose2>(w.graph, 0, 600, &saver, [&](int) { saver.Update(); });
+  RrrOptions other;
+  other.noise_margin = 4.0;
+  MapVerifier<Pose2> verifier(other);
+  Feed<Pose2>(w.graph, 0, 600, &verifier, nullptr);
+  const std::string state = saver.SaveState();
+  EXPECT_FALSE(verifier.SavedUnderSameOptions(state));
+  EXPECT_THROW(verifier.RestoreState(state), std::runtime_error);
+}
+
+TEST(MapVerifierState, AStateOfOtherInputsOrCutShortIsRefusedNamingWhy) {
+  const SimulatedWorld w = GroupedWorld();
+  MapVerifier<Pose2> saver{RrrOptions()};
+  Feed<Pose2>(w.graph, 0, 600, &saver, [&](int) { saver.Update(); });
+  const std::string state = saver.SaveState();
+  const auto refusal = [&](int poses, const std::string& bytes) {
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    Feed<Pose2>(w.graph, 0, poses, &verifier, nullptr);
+    try {
+      verifier.RestoreState(bytes);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("restored");
+  };
+  EXPECT_NE(refusal(601, state).find("saved with 600 poses"), std::string::npos)
+      << refusal(601, state);
+  const std::string half = refusal(600, state.substr(0, state.size() / 2));
+  EXPECT_TRUE(half.find("ends before") != std::string::npos ||
+              half.find("does not fit") != std::string::npos)
+      << half;
+  EXPECT_NE(refusal(600, "not a state").find("the format"), std::string::npos);
+  EXPECT_NE(refusal(600, state + "x").find("past its end"), std::string::npos);
+}
+
+TEST(MapVerifierState, ThePublishedProcedureSavesNoState) {
+  IncrementalVerifier<Pose2> verifier{RrrOptions()};
+  EXPECT_EQ(verifier.SaveState(), "");
+  EXPECT_THROW(verifier.SavedUnderSameOptions("anything"), std::runtime_error);
+  EXPECT_THROW(verifier.RestoreState("anything"), std::logic_error);
+}
+
+}  // namespace
+}  // namespace rrr
