@@ -128,8 +128,8 @@ def replay(procedure, bag, graph_info, window, limit, port, out, play=1.0, datab
 def resume(database, procedure, window, port, info):
     """Starts rrr_node on the recorded session `database` with no input and
     times how long it takes until ~get_status answers with every keyframe
-    resumed; returns that, the database's size and its bytes per keyframe
-    and candidate."""
+    resumed; returns that, the update whose checkpoint it restored (0: none),
+    the database's size and its bytes per keyframe and candidate."""
     env = common.ros_env(port)
     size = sum(p.stat().st_size for p in database.parent.glob(database.name + "*"))
     start = time.monotonic()
@@ -137,19 +137,21 @@ def resume(database, procedure, window, port, info):
         ["roslaunch", "-p", str(port), "rrr_slam", "rrr.launch", f"cluster_window:={window}",
          f"procedure:={procedure}", f"database:={database}"],
         env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    seconds = None
+    seconds = checkpoint = None
     try:
         while time.monotonic() - start < 600:
             fields = common.service(env, "/rrr_node/get_status", timeout=60)
             if fields and int(fields["resumed_keyframes"]) >= info["poses"]:
                 seconds = time.monotonic() - start
+                checkpoint = int(fields["resumed_from_update"])
                 break
             time.sleep(0.5)
     finally:
         ros_processes.stop(launch)
     return {"database_bytes": size,
             "database_bytes_per_keyframe_and_candidate": size / (info["poses"] + info["candidates"]),
-            "resume_seconds": seconds}
+            "resume_seconds": seconds,
+            "resumed_from_update": checkpoint}
 
 
 def main():
