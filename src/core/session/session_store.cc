@@ -263,24 +263,25 @@ ResumeSummary SessionStore<Pose>::Resume(
   ResumeSummary summary;
   CheckpointRow checkpoint;
   bool restore = false;
-  if (ReadCheckpoint(&db, &checkpoint)) {
+  // Runs `use` on the checkpoint; what it throws fails the resume, naming it.
+  const auto with_checkpoint = [&](const auto& use) {
     try {
-      checkpoint.state = Decompress(checkpoint.state);
-      restore = verifier->SavedUnderSameOptions(checkpoint.state);
+      use();
     } catch (const std::runtime_error& e) {
       db.Fail("the checkpoint after update " +
               std::to_string(checkpoint.update_number) + ": " + e.what());
     }
+  };
+  if (ReadCheckpoint(&db, &checkpoint)) {
+    with_checkpoint([&] {
+      checkpoint.state = Decompress(checkpoint.state);
+      restore = verifier->SavedUnderSameOptions(checkpoint.state);
+    });
     summary.checkpoint_of_other_options = !restore;
   }
   // Restores the checkpoint, once the inputs up to its last_seq are in.
   const auto restore_checkpoint = [&] {
-    try {
-      verifier->RestoreState(checkpoint.state);
-    } catch (const std::runtime_error& e) {
-      db.Fail("the checkpoint after update " +
-              std::to_string(checkpoint.update_number) + ": " + e.what());
-    }
+    with_checkpoint([&] { verifier->RestoreState(checkpoint.state); });
     summary.checkpoint_update = checkpoint.update_number;
     restore = false;
     impl_->keyframes_since_checkpoint = 0;
