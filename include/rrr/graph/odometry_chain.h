@@ -2,6 +2,7 @@
 #ifndef RRR_GRAPH_ODOMETRY_CHAIN_H_
 #define RRR_GRAPH_ODOMETRY_CHAIN_H_
 
+#include <cmath>
 #include <vector>
 
 #include "rrr/graph/pose_graph.h"
@@ -38,12 +39,18 @@ class OdometryChain {
   }
   // The covariance of Between(i, j)'s measurement.
   Covariance CovarianceBetween(int i, int j) const;
+  // The distance travelled between poses `i` and `j` (in either order): the
+  // sum of the lengths of the steps' translations between them.
+  double Travelled(int i, int j) const {
+    return std::abs(travelled_[j] - travelled_[i]);
+  }
 
  private:
   std::vector<Pose> composed_;        // pose k from pose 0 at the identity
   std::vector<Pose> steps_;           // step k: from pose k to k+1
   std::vector<Covariance> step_cov_;  // covariance of step k
   std::vector<Covariance> world_sum_;  // W_k = Σ_{m<k} Ad(P_{m+1}) Σ_m Ad(·)ᵀ
+  std::vector<double> travelled_;      // Σ_{m<k} |t(step m)|
 };
 
 // The chain of `graph`'s odometry: one step per consecutive pair of poses.

@@ -18,7 +18,7 @@ M Inverse(const M& spd) {
 
 template <class Pose>
 OdometryChain<Pose>::OdometryChain()
-    : composed_{Pose()}, world_sum_{Covariance::Zero()} {}
+    : composed_{Pose()}, world_sum_{Covariance::Zero()}, travelled_{0.0} {}
 
 template <class Pose>
 void OdometryChain<Pose>::Append(const Pose& z,
@@ -30,6 +30,7 @@ void OdometryChain<Pose>::Append(const Pose& z,
   composed_.push_back(next);
   steps_.push_back(z);
   step_cov_.push_back(cov);
+  travelled_.push_back(travelled_.back() + z.translation().norm());
 }
 
 template <class Pose>

@@ -94,6 +94,20 @@ TYPED_TEST(OdometryChainTest, DirectAndPrefixCompoundingAgree) {
   EXPECT_LT((edge.information - expected).norm(), 1e-8 * expected.norm());
 }
 
+TEST(OdometryChain, TravelledSumsTheStepsLengthsEitherWay) {
+  OdometryChain<Pose2> chain;
+  chain.Append(Pose2(3.0, 4.0, 0.5), Pose2::Jacobian::Identity());
+  chain.Append(Pose2(0.0, 0.0, 1.0), Pose2::Jacobian::Identity());   // turns
+  chain.Append(Pose2(-1.0, 0.0, 0.0), Pose2::Jacobian::Identity());  // back
+  EXPECT_DOUBLE_EQ(chain.Travelled(0, 3), 6.0);
+  EXPECT_DOUBLE_EQ(chain.Travelled(3, 0), 6.0);
+  EXPECT_DOUBLE_EQ(chain.Travelled(1, 2), 0.0);
+  EXPECT_DOUBLE_EQ(chain.Travelled(2, 3), 1.0);
+  // The way travelled, not the distance between the ends: pose 3 lies
+  // within 6 of pose 0 only by the turn.
+  EXPECT_LT(chain.Relative(0, 3).translation().norm(), 6.0);
+}
+
 TEST(ChainOf, InvertsBackwardEdgesAndFusesDuplicates) {
   PoseGraph<Pose2> graph;
   for (int k = 0; k < 3; ++k) graph.AddPose(k, Pose2(k, 0, 0));

@@ -102,8 +102,9 @@ struct MapVerifierStats {
 //     scale at least twice today's (it leaves the map while it is judged).
 // s is RrrOptions::noise_scale or, when that is 0, `noise_margin` times the
 // estimate of NoiseScaleEstimate from the loops that arrived before the pose
-// at which the cluster is judged; with an estimate, no cluster is judged
-// before kMinLoopSamples loops have arrived (or Finish()). Decisions depend
+// at which the cluster is judged (those that SamplesNoise); with an
+// estimate, no cluster is judged before kMinLoopSamples such loops have
+// arrived (or Finish()). Decisions depend
 // only on the inputs and their order, not on when Update() is called, so
 // running it after every pose (VerifyWithMap) gives the node's decisions.
 template <class Pose>
@@ -112,6 +113,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   static constexpr int kClusterSpanWindows = 5;
   static constexpr size_t kMostReversalsPerConflict = 3;
   static constexpr int kMinLoopSamples = 30;
+  // A loop samples the noise scale only if its measurement departs from the
+  // odometry between its ends by less than this share of the distance
+  // travelled between them (SamplesNoise).
+  static constexpr double kMostPlausibleDrift = 0.5;
   // A trial whose Δ is over its gate but under kNearMissFactor times it is
   // tried again over kWideRadiusFactor times the radius, and so is the
   // map without the clusters a conflict sets aside.
@@ -179,6 +184,16 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Records again, for pose indices from `pose` on, the scale from the loops
   // that arrived by each (once per Catch that sampled loops that came late).
   void RecordScalesFrom(int pose);
+  // Whether loop `loop`, solved alone with the odometry, samples the noise
+  // scale: its measurement departs from the odometry between its ends by
+  // less than kMostPlausibleDrift times the distance travelled between them.
+  // No odometry a pose graph is built on errs by half the way it measured;
+  // a loop that says so is false or joins poses the odometry cannot relate
+  // (a robot standing still), and either way its error tells nothing of the
+  // loops' noise. It depends on no information matrix, so a stream of such
+  // loops (a front-end matching a place to the road just driven, the junk
+  // of a straight drive) moves the scale neither way.
+  bool SamplesNoise(int loop) const;
   // The pose index at which pending cluster `c` is judged, or -1 if not yet.
   int DecisionPose(int c, bool finish) const;
   void JudgeCluster(int c);

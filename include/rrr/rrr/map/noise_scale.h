@@ -28,8 +28,9 @@ namespace rrr {
 //  - before that, the information matrices as given (s = 1), unless single
 //    loops show them too small: each loop minimized alone with the odometry
 //    (e degrees of freedom) gives D²/e, and the kLoopQuantile-quantile over
-//    the loops so far, divided by the same quantile of χ²_e/e, replaces 1
-//    when it is smaller. A low quantile and never above 1, because early in
+//    the loops sampled so far (the caller chooses which loops sample the
+//    noise), divided by the same quantile of χ²_e/e, replaces 1 when it is
+//    smaller. A low quantile and never above 1, because early in
 //    a run most candidates can be false (nothing has been revisited yet) and
 //    odometry can be overconfident over long stretches: it errs towards a
 //    small scale, which sets clusters aside rather than accepting false

@@ -108,9 +108,10 @@ void MapVerifier<Pose>::Catch() {
     const auto& e = graph.loops()[loop];
     const CondensedErrors alone =
         SolveCondensed(graph, chain_, {loop}, options_.convergence);
-    if (alone.errors.solved) scale_.AddLoopSample(alone.errors.total_chi2);
     alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2 : -1.0);
-    if (alone.errors.solved && arrival < loop_scales_.size()) {
+    const bool sample = alone.errors.solved && SamplesNoise(loop);
+    if (sample) scale_.AddLoopSample(alone.errors.total_chi2);
+    if (sample && arrival < loop_scales_.size()) {
       earliest_late = std::min(earliest_late, arrival);
     }
     const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
@@ -133,11 +134,20 @@ template <class Pose>
 void MapVerifier<Pose>::RecordScalesFrom(int pose) {
   std::vector<std::pair<int, double>> samples;  // (arrival, D²)
   for (int loop = 0; loop < static_cast<int>(alone_chi2_.size()); ++loop) {
-    if (alone_chi2_[loop] >= 0.0) {
+    if (alone_chi2_[loop] >= 0.0 && SamplesNoise(loop)) {
       samples.emplace_back(this->poses_at_arrival(loop), alone_chi2_[loop]);
     }
   }
   loop_scales_.RecomputeFrom(pose, std::move(samples), Pose::kDof);
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::SamplesNoise(int loop) const {
+  const auto& e = this->graph().loops()[loop];
+  const Pose departure =
+      chain_.Relative(e.from, e.to).inverse() * e.measurement;
+  return departure.translation().norm() <
+         kMostPlausibleDrift * chain_.Travelled(e.from, e.to);
 }
 
 template <class Pose>

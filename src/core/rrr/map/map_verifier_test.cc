@@ -320,6 +320,50 @@ TEST(MapVerifier, APosterioriScaleFollowsTheInformationMatrices) {
               1e-6 * fourfold.a_posteriori_scale);
 }
 
+TEST(MapVerifier, LoopsThatUndoTheWayTravelledDoNotSetTheScale) {
+  // Three revisits of ten links each, on a chain whose information
+  // matrices are 100 times too small, and 900 loops that join poses 20 to 39
+  // apart measured as the identity (a front-end matching the road just
+  // driven): each departs from the odometry by about the way travelled
+  // between its ends. At 30:1 their errors would hold the loops' low
+  // quantile; they sample no noise, so the gates are the revisits' alone.
+  std::vector<std::pair<int, int>> revisits;
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 10; ++k) {
+      revisits.emplace_back(100 + 200 * r + k, 226 + 200 * r + k);
+    }
+  }
+  const auto truth = testing::NoisyChain<Pose2>(800, revisits, 0.01);
+  PoseGraph<Pose2> loose, spoiled;
+  for (int k = 0; k < truth.num_poses(); ++k) {
+    loose.AddPose(truth.ids()[k], truth.estimates()[k]);
+    spoiled.AddPose(truth.ids()[k], truth.estimates()[k]);
+  }
+  for (const auto* edges : {&truth.odometry(), &truth.loops()}) {
+    for (auto e : *edges) {
+      e.information *= 0.01;
+      loose.AddEdge(e);
+      spoiled.AddEdge(e);
+    }
+  }
+  const auto junk_info = loose.loops()[0].information;
+  for (int k = 0; k < 900; ++k) {
+    const int from = k % 740;
+    const int to = from + 20 + (k / 740) * 13 + k % 7;  // each pair once
+    spoiled.AddEdge({from, to, Pose2(), junk_info});
+  }
+  MapVerifierStats alone, among_junk;
+  const Verdict revisits_alone =
+      VerifyWithMap<Pose2>(loose, RrrOptions(), nullptr, &alone);
+  const Verdict with_junk =
+      VerifyWithMap<Pose2>(spoiled, RrrOptions(), nullptr, &among_junk);
+  EXPECT_EQ(among_junk.noise_scale_source, "loops");
+  EXPECT_EQ(among_junk.noise_scale, alone.noise_scale);
+  EXPECT_LT(among_junk.noise_scale, 1.0);
+  EXPECT_EQ(with_junk.accepted, revisits_alone.accepted);
+  EXPECT_GE(with_junk.accepted.size(), 27u);
+}
+
 TEST(MapVerifier, RejectsAFalseLoopIn3D) {
   const auto graph = testing::ChainWithOneFalseLoop<Pose3>();
   const Verdict verdict = VerifyWithMap(graph, RrrOptions());
