@@ -104,7 +104,17 @@ struct MapVerifierStats {
 // estimate of NoiseScaleEstimate from the loops that arrived before the pose
 // at which the cluster is judged (those that SamplesNoise); with an
 // estimate, no cluster is judged before kMinLoopSamples such loops have
-// arrived (or Finish()). Decisions depend
+// arrived (or Finish()). Once the clusters' estimate is in force, the two
+// estimates measure two kinds of error: the loops' is of a loop against the
+// odometry alone, the odometry's drift between its ends included; the
+// clusters' is of the loops against the map, where the drift is taken out,
+// and on odometry whose covariances understate its drift it is far tighter
+// (KITTI: 0.2 against the loops' 1). So s is the larger of the two
+// (GroupScaleAt) in step 1, which tests links against the odometry alone,
+// and against the map for several links together: a revisit whose links
+// agree with each other may close drift the map has not yet seen closed.
+// One link against the map (a lone link, and each link of a cluster) has
+// no other to agree with and is held to the clusters' estimate. Decisions depend
 // only on the inputs and their order, not on when Update() is called, so
 // running it after every pose (VerifyWithMap) gives the node's decisions.
 template <class Pose>
@@ -151,6 +161,11 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // The noise scale s of the gates for a decision at pose index `pose`
   // (RrrOptions::noise_scale if set, else noise_margin times the estimate).
   double NoiseScaleAt(int pose) const;
+  // The scale of the tests of links against the odometry alone (step 1)
+  // and of several links together against the map: the larger of
+  // NoiseScaleAt(pose) and noise_margin times the single loops' estimate
+  // (RrrOptions::noise_scale if set).
+  double GroupScaleAt(int pose) const;
   double noise_scale() const override;
   std::string noise_scale_source() const override;
   // The median over the accepted clusters of their error at the map's
@@ -173,7 +188,7 @@ class MapVerifier : public OnlineVerifier<Pose> {
     std::vector<int> survivors;  // links kept by the intra-cluster test
     std::vector<int> left_out;   // IntraClusterOutcome::left_out
     int ready_pose = -1;         // pose index at which it became ready
-    double judged_scale = 0.0;   // s of its last intra-cluster test
+    double judged_scale = 0.0;   // NoiseScaleAt of its last step 1
     int reviewed_at = 0;   // acceptances so far at its last review (step 5)
     bool refuted = false;  // some link refuted by the odometry alone
   };
@@ -251,7 +266,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   double ClusterChi2AtEstimate(int c) const;
   // Each accepted cluster's error at the map's estimate, with its dof.
   std::vector<NoiseScaleEstimate::ClusterSample> AcceptedAtEstimate() const;
-  // s·χ²(α, dof) for the decision being made.
+  // s·χ²(α, dof) for the decision being made: GroupScaleAt for more than
+  // one link's dof, NoiseScaleAt for one link's.
   double Gate(int dof) const;
   // A change of the map's error that matters to decisions: s·e, the
   // expected error of one edge.

@@ -36,6 +36,13 @@ double MapVerifier<Pose>::NoiseScaleAt(int pose) const {
 }
 
 template <class Pose>
+double MapVerifier<Pose>::GroupScaleAt(int pose) const {
+  if (options_.noise_scale > 0.0) return options_.noise_scale;
+  const double from_loops = loop_scales_.At(pose);
+  return options_.noise_margin * std::max(scale_.Value(from_loops), from_loops);
+}
+
+template <class Pose>
 double MapVerifier<Pose>::noise_scale() const {
   return NoiseScaleAt(this->graph().num_poses() - 1);
 }
@@ -77,7 +84,9 @@ double MapVerifier<Pose>::Significant() const {
 
 template <class Pose>
 double MapVerifier<Pose>::Gate(int dof) const {
-  return NoiseScaleAt(decision_pose_) * chi2_(dof);
+  const double scale = dof > Pose::kDof ? GroupScaleAt(decision_pose_)
+                                        : NoiseScaleAt(decision_pose_);
+  return scale * chi2_(dof);
 }
 
 template <class Pose>
@@ -258,7 +267,7 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
   record.judged_scale = NoiseScaleAt(decision_pose_);
   IntraClusterOutcome intra = MapIntraCluster(
       this->graph(), chain_, clustering_.clusters()[c].loops, alone_chi2_,
-      record.judged_scale, chi2_, options_.convergence);
+      GroupScaleAt(decision_pose_), chi2_, options_.convergence);
   stats_.intra_solves += intra.solves;
   stats_.not_converged += intra.not_converged;
   this->CountSolves(intra.solves);
