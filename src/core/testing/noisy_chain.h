@@ -46,6 +46,23 @@ PoseGraph<Pose> NoisyChain(int n, const std::vector<std::pair<int, int>>& ab,
   return graph;
 }
 
+// `graph` with `edit(&edge, is_loop)` applied to each edge; the poses and
+// their estimates as they are.
+template <class Pose, class Edit>
+PoseGraph<Pose> WithEachEdge(const PoseGraph<Pose>& graph, Edit edit) {
+  PoseGraph<Pose> out;
+  for (int k = 0; k < graph.num_poses(); ++k) {
+    out.AddPose(graph.ids()[k], graph.estimates()[k]);
+  }
+  for (const auto* edges : {&graph.odometry(), &graph.loops()}) {
+    for (Constraint<Pose> e : *edges) {
+      edit(&e, edges == &graph.loops());
+      out.AddEdge(e);
+    }
+  }
+  return out;
+}
+
 // A NoisyChain of 600 poses (noise 0.01) with five true loops, graph loops
 // 0 to 4, and one false loop, graph loop 5: from pose 200 to pose 500,
 // measured as the identity.

@@ -114,8 +114,8 @@ struct MapVerifierStats {
 // and against the map for several links together: a revisit whose links
 // agree with each other may close drift the map has not yet seen closed.
 // One link against the map (a lone link, and each link of a cluster) has
-// no other to agree with and is held to the clusters' estimate. Decisions depend
-// only on the inputs and their order, not on when Update() is called, so
+// no other to agree with and is held to the clusters' estimate. Decisions
+// depend only on the inputs and their order, not on when Update() is called, so
 // running it after every pose (VerifyWithMap) gives the node's decisions.
 template <class Pose>
 class MapVerifier : public OnlineVerifier<Pose> {

@@ -37,9 +37,9 @@ double MapVerifier<Pose>::NoiseScaleAt(int pose) const {
 
 template <class Pose>
 double MapVerifier<Pose>::GroupScaleAt(int pose) const {
-  if (options_.noise_scale > 0.0) return options_.noise_scale;
-  const double from_loops = loop_scales_.At(pose);
-  return options_.noise_margin * std::max(scale_.Value(from_loops), from_loops);
+  const double of_the_map = NoiseScaleAt(pose);
+  if (options_.noise_scale > 0.0) return of_the_map;
+  return std::max(of_the_map, options_.noise_margin * loop_scales_.At(pose));
 }
 
 template <class Pose>

@@ -296,16 +296,8 @@ TEST(MapVerifier, APosterioriScaleFollowsTheInformationMatrices) {
   // and map, each error k times larger.
   const auto graph = testing::NoisyChain<Pose2>(
       400, {{10, 136}, {12, 138}, {140, 266}, {150, 276}, {270, 396}}, 0.02);
-  PoseGraph<Pose2> scaled;
-  for (int k = 0; k < graph.num_poses(); ++k) {
-    scaled.AddPose(graph.ids()[k], graph.estimates()[k]);
-  }
-  for (const auto* edges : {&graph.odometry(), &graph.loops()}) {
-    for (auto e : *edges) {
-      e.information *= 4.0;
-      scaled.AddEdge(e);
-    }
-  }
+  const PoseGraph<Pose2> scaled = testing::WithEachEdge(
+      graph, [](Constraint<Pose2>* e, bool) { e->information *= 4.0; });
   RrrOptions options;
   options.noise_scale = 1.0;
   MapVerifierStats given, fourfold;
@@ -333,19 +325,10 @@ TEST(MapVerifier, LoopsThatUndoTheWayTravelledDoNotSetTheScale) {
       revisits.emplace_back(100 + 200 * r + k, 226 + 200 * r + k);
     }
   }
-  const auto truth = testing::NoisyChain<Pose2>(800, revisits, 0.01);
-  PoseGraph<Pose2> loose, spoiled;
-  for (int k = 0; k < truth.num_poses(); ++k) {
-    loose.AddPose(truth.ids()[k], truth.estimates()[k]);
-    spoiled.AddPose(truth.ids()[k], truth.estimates()[k]);
-  }
-  for (const auto* edges : {&truth.odometry(), &truth.loops()}) {
-    for (auto e : *edges) {
-      e.information *= 0.01;
-      loose.AddEdge(e);
-      spoiled.AddEdge(e);
-    }
-  }
+  const PoseGraph<Pose2> loose = testing::WithEachEdge(
+      testing::NoisyChain<Pose2>(800, revisits, 0.01),
+      [](Constraint<Pose2>* e, bool) { e->information *= 0.01; });
+  PoseGraph<Pose2> spoiled = loose;
   const auto junk_info = loose.loops()[0].information;
   for (int k = 0; k < 900; ++k) {
     const int from = k % 740;
@@ -373,18 +356,14 @@ TEST(MapVerifier, KeepsRevisitsThatCloseDriftTheOdometryUnderstates) {
   // are far below those of single loops against the odometry; revisits
   // that close a long stretch are held to the single loops' scale.
   const SimulatedWorld world = World(2000, 40, 1, 3);
-  PoseGraph<Pose2> biased;
-  for (int k = 0; k < world.graph.num_poses(); ++k) {
-    biased.AddPose(world.graph.ids()[k], world.graph.estimates()[k]);
-  }
-  for (auto e : world.graph.odometry()) {
-    e.measurement = e.measurement * Pose2(0.0, 0.0, 0.0005);
-    biased.AddEdge(e);
-  }
-  for (auto e : world.graph.loops()) {
-    e.information *= 0.04;
-    biased.AddEdge(e);
-  }
+  const PoseGraph<Pose2> biased =
+      testing::WithEachEdge(world.graph, [](Constraint<Pose2>* e, bool loop) {
+        if (loop) {
+          e->information *= 0.04;
+        } else {
+          e->measurement = e->measurement * Pose2(0.0, 0.0, 0.0005);
+        }
+      });
   MapVerifierStats stats;
   const Verdict verdict =
       VerifyWithMap<Pose2>(biased, RrrOptions(), nullptr, &stats);
