@@ -18,10 +18,11 @@
 #include "ros_test_helpers.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/published/batch_verifier.h"
 #include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/rrr/published/batch_verifier.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr/solver/pose_graph_solver.h"
+#include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/GetAcceptedGraph.h"
@@ -267,16 +268,25 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
   EXPECT_EQ(saved.loops().size(), accepted.size());
 
   // ~get_accepted_graph: every keyframe, its odometry, the accepted loops.
+  const auto expect_final_graph = [&](const rrr_slam::AcceptedGraph& graph) {
+    EXPECT_EQ(graph.poses.size(), static_cast<size_t>(g.num_poses()));
+    EXPECT_EQ(graph.odometry.size(), g.odometry().size());
+    Pairs graph_loops;
+    for (const auto& e : graph.loops) graph_loops.insert({e.from_id, e.to_id});
+    EXPECT_EQ(graph_loops, accepted);
+  };
   rrr_slam::GetAcceptedGraph graph;
   ASSERT_TRUE(ros::service::call("/rrr_node/get_accepted_graph", graph));
-  EXPECT_EQ(graph.response.graph.poses.size(),
-            static_cast<size_t>(g.num_poses()));
-  EXPECT_EQ(graph.response.graph.odometry.size(), g.odometry().size());
-  Pairs graph_loops;
-  for (const auto& e : graph.response.graph.loops) {
-    graph_loops.insert({e.from_id, e.to_id});
-  }
-  EXPECT_EQ(graph_loops, accepted);
+  expect_final_graph(graph.response.graph);
+
+  // Nobody subscribed to ~accepted_graph during the run, so it was never
+  // built; a subscriber that joins after ~finish gets the final graph.
+  rrr_slam::AcceptedGraph::ConstPtr late;
+  auto late_sub = nh.subscribe<rrr_slam::AcceptedGraph>(
+      "/rrr_node/accepted_graph", 1, [&](const auto& m) { late = m; });
+  ASSERT_TRUE(rrr_test::WaitFor([&] { return late != nullptr; }, 10.0))
+      << "a subscriber that joined after ~finish got no accepted graph";
+  expect_final_graph(*late);
 }
 
 }  // namespace

@@ -69,13 +69,20 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
   if (!options_.database.empty()) Resume();
   SetVerifierState(*verifier_, &status_);
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
-  path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
-  marker_pub_ =
-      private_nh_.advertise<visualization_msgs::MarkerArray>("graph", 1, true);
+  // A subscriber that joins gets the state at once if the latched message is
+  // out of date (after ~finish no update would send it).
+  const ros::SubscriberStatusCallback joined =
+      [this](const ros::SingleSubscriberPublisher&) {
+        Enqueue(Request([this] { PublishDue(true); }));
+      };
+  path_pub_ =
+      private_nh_.advertise<nav_msgs::Path>("path", 1, joined, {}, {}, true);
+  marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>(
+      "graph", 1, joined, {}, {}, true);
   decision_pub_ =
       private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
-  graph_pub_ =
-      private_nh_.advertise<rrr_slam::AcceptedGraph>("accepted_graph", 1, true);
+  graph_pub_ = private_nh_.advertise<rrr_slam::AcceptedGraph>(
+      "accepted_graph", 1, joined, {}, {}, true);
   diagnostics_pub_ =
       nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   save_srv_ = private_nh_.advertiseService("save_graph",
@@ -447,18 +454,15 @@ const std::vector<Pose>& VerifierNode<Pose>::FreshMap() {
 }
 
 template <class Pose>
-void VerifierNode<Pose>::PublishDue(bool finish) {
-  const ros::WallTime now = ros::WallTime::now();
-  // Whether a message for `pub`, behind the state (`*stale`), is due now.
+void VerifierNode<Pose>::PublishDue(bool now) {
+  const ros::WallTime time = ros::WallTime::now();
+  // Whether a message for `pub`, behind the state (`*stale`), is due.
   auto due = [&](const ros::Publisher& pub, bool* stale, ros::WallTime* last,
                  double period) {
-    if (!*stale) return false;
-    if (!finish &&
-        ((now - *last).toSec() < period || pub.getNumSubscribers() == 0)) {
-      return false;
-    }
+    if (!*stale || pub.getNumSubscribers() == 0) return false;
+    if (!now && (time - *last).toSec() < period) return false;
     *stale = false;
-    *last = now;
+    *last = time;
     return true;
   };
   if (due(path_pub_, &path_stale_, &last_path_, options_.display_period)) {

@@ -82,18 +82,18 @@ class VerifierNode {
                         const Pose& z, const Information& information);
   void ResolveStampedLoops();
   // Runs the decision procedure (or, with `finish`, judges everything) and
-  // publishes what changed: ~decisions at once, the larger messages at most
-  // every display_period / graph_period s and while subscribed (all of
-  // them at `finish`).
+  // publishes what changed: ~decisions at once, the larger messages while
+  // subscribed, at most every display_period / graph_period s (at once at
+  // `finish`).
   void UpdateAndPublish(bool finish);
   // After the accepted loops changed: corrects the newest keyframe (and so
   // map -> odom) now, the whole map when it is next needed (FreshMap).
   void MapChanged();
   // The keyframes' corrected poses, recomputed first if the map changed.
   const std::vector<Pose>& FreshMap();
-  // Publishes the displays and the accepted graph if they are out of date,
-  // due and (unless `finish`) subscribed.
-  void PublishDue(bool finish);
+  // Publishes the displays and the accepted graph that are out of date and
+  // subscribed, if their period has passed or `now`.
+  void PublishDue(bool now);
   // Rebuilds the verifier and the keyframes from the session database.
   void Resume();
   // How warnings name the inputs: "<kind> message <seq>".
