@@ -3,6 +3,7 @@
 #include <ros/ros.h>
 
 #include <memory>
+#include <thread>
 
 #include "node_options.h"
 #include "rrr/geometry/pose2.h"
@@ -23,16 +24,23 @@ int main(int argc, char** argv) {
     return 1;
   }
   // Two threads: services wait for the worker while the other keeps taking
-  // messages.
+  // messages. The worker is this (the main) thread (VerifierNode::Run).
   ros::AsyncSpinner spinner(2);
+  const auto run = [&spinner](auto& node) {
+    spinner.start();
+    std::thread stop([&node] {
+      ros::waitForShutdown();
+      node.Stop();
+    });
+    node.Run();
+    stop.join();
+  };
   if (options.dimension == 2) {
     rrr_ros::VerifierNode<rrr::Pose2> node(nh, private_nh, options);
-    spinner.start();
-    ros::waitForShutdown();
+    run(node);
   } else {
     rrr_ros::VerifierNode<rrr::Pose3> node(nh, private_nh, options);
-    spinner.start();
-    ros::waitForShutdown();
+    run(node);
   }
   return 0;
 }

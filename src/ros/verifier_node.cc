@@ -99,7 +99,6 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
                               &VerifierNode::OnTfTimer, this);
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0),
                                        &VerifierNode::OnDiagnosticsTimer, this);
-  worker_ = std::thread(&VerifierNode::WorkerLoop, this);
   odom_sub_ = nh_.subscribe("odom", kQueueSize, &VerifierNode::OnOdometry, this,
                             ros::TransportHints().tcpNoDelay());
   loop_sub_ =
@@ -112,7 +111,11 @@ VerifierNode<Pose>::~VerifierNode() {
   odom_sub_.shutdown();
   loop_sub_.shutdown();
   queue_.Stop();
-  worker_.join();
+}
+
+template <class Pose>
+void VerifierNode<Pose>::Stop() {
+  queue_.Stop();
 }
 
 template <class Pose>
@@ -339,7 +342,7 @@ void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
 // ---- Worker thread ---------------------------------------------------------
 
 template <class Pose>
-void VerifierNode<Pose>::WorkerLoop() {
+void VerifierNode<Pose>::Run() {
   while (true) {
     auto batch = queue_.TakeAll();
     if (batch.empty()) return;  // stopped

@@ -10,7 +10,6 @@
 #include <functional>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <variant>
 #include <vector>
 
@@ -34,10 +33,10 @@ namespace rrr_ros {
 
 // The adapter between ROS and an rrr::OnlineVerifier (the map procedure's
 // MapVerifier or the published IncrementalVerifier). Callbacks only queue
-// their input; one worker thread owns the verifier and its solver, takes the
-// queue in batches (so it catches up when inputs come faster than it judges),
-// and publishes. Services that need the verifier are queued as well, so they
-// see every input received before them.
+// their input; one worker (the thread that calls Run()) owns the verifier and
+// its solver, takes the queue in batches (so it catches up when inputs come
+// faster than it judges), and publishes. Services that need the verifier are
+// queued as well, so they see every input received before them.
 template <class Pose>
 class VerifierNode {
  public:
@@ -45,6 +44,14 @@ class VerifierNode {
   VerifierNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
                const NodeOptions& options);
   ~VerifierNode();
+
+  // The worker: judges and publishes on the calling thread until Stop().
+  // Run it on the process's main thread: the main arena keeps the memory a
+  // whole-map factorization frees for the next one, where a thread's own
+  // arena, which holds no block over 64 MB, would map it afresh each time.
+  void Run();
+  // Makes Run() return once the inputs taken so far are judged; any thread.
+  void Stop();
 
  private:
   using Information = typename rrr::Constraint<Pose>::Information;
@@ -73,8 +80,7 @@ class VerifierNode {
   void OnTfTimer(const ros::TimerEvent& event);
   void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
-  // Worker thread (taking in the inputs: verifier_node_inputs.cc).
-  void WorkerLoop();
+  // Worker (taking in the inputs: verifier_node_inputs.cc).
   void Process(const nav_msgs::Odometry::ConstPtr& msg);
   void Process(const rrr_slam::LoopClosure::ConstPtr& msg);
   // Adds the candidate of message `seq` between keyframes `from` and `to`.
@@ -144,7 +150,6 @@ class VerifierNode {
   std::vector<typename InputQueue<Input>::Clock::time_point>
       unpublished_arrivals_;
   ros::WallTime last_path_, last_markers_, last_graph_;  // last published
-  std::thread worker_;
 
   // Shared with the ROS threads under `state_mutex_`.
   std::mutex state_mutex_;
