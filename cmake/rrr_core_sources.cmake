@@ -21,6 +21,7 @@ set(RRR_CORE_SOURCES
   src/core/solver/local_problem.cc
   src/core/solver/condensed_solve.cc
   src/core/solver/pose_graph_solver.cc
+  src/core/solver/process_memory.cc
   src/core/solver/solve_in_parallel.cc
   src/core/robust/reweighted_solve.cc
   src/core/robust/dcs.cc

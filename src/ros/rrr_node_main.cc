@@ -1,5 +1,4 @@
 // rrr_node: reads its parameters, then runs the verifier node.
-#include <malloc.h>
 #include <ros/ros.h>
 
 #include <memory>
@@ -8,13 +7,12 @@
 #include "node_options.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/solver/process_memory.h"
 #include "verifier_node.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "rrr_node");
-  // Keep freed memory in the process: each solve sets up a new sparse problem.
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  rrr::KeepFreedMemory();
   ros::NodeHandle nh, private_nh("~");
   rrr_ros::NodeOptions options;
   try {

@@ -1,11 +1,10 @@
 // rrr: loop-closure verification of pose graphs from the command line.
-#include <malloc.h>
-
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
 
 #include "commands.h"
+#include "rrr/solver/process_memory.h"
 
 namespace {
 
@@ -32,11 +31,7 @@ int Run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // RRR sets up and frees thousands of sparse problems; keeping freed memory
-  // in the process instead of returning it to the kernel saves a page fault
-  // per touched page on every solve (a third of the run time on large graphs).
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  rrr::KeepFreedMemory();
   try {
     return Run(argc, argv);
   } catch (const std::exception& e) {
