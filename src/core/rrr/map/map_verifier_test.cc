@@ -378,6 +378,44 @@ TEST(MapVerifier, KeepsRevisitsThatCloseDriftTheOdometryUnderstates) {
   EXPECT_EQ(stats.noise_scale_source, "clusters");
 }
 
+TEST(MapVerifier, KeepsTheOneRevisitOfARingAmongFourTimesAsManyFalseLoops) {
+  // A ring driven once around and on past its start: every true loop
+  // closes the one place where the laps overlap, so no other revisit
+  // vouches for it, and 200 false loops (four to each true one) are spread
+  // over the whole run.
+  WorldOptions options;
+  options.layout = Layout::kRing;
+  options.ring = 500;
+  options.poses = 600;
+  options.false_loops = 200;
+  const SimulatedWorld world = SimulateWorld(options);
+  const std::set<int> wrong(world.false_loops.begin(), world.false_loops.end());
+  const size_t true_loops = world.graph.loops().size() - wrong.size();
+  ASSERT_GE(true_loops, 40u);
+  const Verdict verdict = VerifyWithMap(world.graph, RrrOptions());
+  size_t true_accepted = 0;
+  for (const int k : verdict.accepted) {
+    EXPECT_EQ(wrong.count(k), 0u) << "false loop " << k << " accepted";
+    true_accepted += wrong.count(k) == 0 ? 1 : 0;
+  }
+  EXPECT_GE(true_accepted, 0.98 * true_loops) << true_loops << " true loops";
+}
+
+TEST(MapVerifier, InformationTooLooseDecidesAsGiven) {
+  // Every information matrix 100 and 10,000 times too small: the estimated
+  // scale follows them, so the decisions are those of the graph as given.
+  const SimulatedWorld world = World(1500, 60, 3, 2);
+  const Verdict given = VerifyWithMap(world.graph, RrrOptions());
+  ASSERT_GT(given.accepted.size(), 100u);
+  for (const double factor : {1e-2, 1e-4}) {
+    SCOPED_TRACE(factor);
+    const PoseGraph<Pose2> loose = testing::WithEachEdge(
+        world.graph,
+        [factor](Constraint<Pose2>* e, bool) { e->information *= factor; });
+    EXPECT_EQ(VerifyWithMap(loose, RrrOptions()).accepted, given.accepted);
+  }
+}
+
 TEST(MapVerifier, RejectsAFalseLoopIn3D) {
   const auto graph = testing::ChainWithOneFalseLoop<Pose3>();
   const Verdict verdict = VerifyWithMap(graph, RrrOptions());
