@@ -71,8 +71,10 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
   ASSERT_TRUE(rrr::ParseProcedure(procedure, &options.procedure));
   ASSERT_TRUE(ros::param::get("/rrr_node/threads", options.threads));
   rrr::Verdict verdict;
+  rrr::MapVerifierStats expected_stats;  // published: the information as given
   if (options.procedure == rrr::Procedure::kMap) {
-    verdict = rrr::VerifyWithMap(g, options);
+    verdict =
+        rrr::VerifyWithMap<rrr::Pose2>(g, options, nullptr, &expected_stats);
   } else {
     rrr::PoseGraphSolver<rrr::Pose2> solver(g, options.iterations);
     verdict = rrr::VerifyBatch(rrr::LoopEnds(g), solver, options);
@@ -246,6 +248,10 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
   EXPECT_EQ(status.inputs_dropped, 0u);
   EXPECT_EQ(status.keyframes, static_cast<uint32_t>(g.num_poses()));
   EXPECT_EQ(status.candidates, g.loops().size());
+  // The scales of the gates at the end, as rrr verify's.
+  EXPECT_DOUBLE_EQ(status.noise_scale, expected_stats.noise_scale);
+  EXPECT_DOUBLE_EQ(status.group_noise_scale, expected_stats.group_noise_scale);
+  EXPECT_GE(status.group_noise_scale, status.noise_scale);
 
   // /diagnostics warns that invalid messages were ignored.
   diagnostic_msgs::DiagnosticArray::ConstPtr diagnostics;

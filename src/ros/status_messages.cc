@@ -17,6 +17,7 @@ void SetVerifierState(const rrr::OnlineVerifier<Pose>& verifier,
   status->clusters = verifier.num_clusters();
   status->noise_scale = verifier.noise_scale();
   status->noise_scale_source = verifier.noise_scale_source();
+  status->group_noise_scale = verifier.group_noise_scale();
 }
 
 template void SetVerifierState(const rrr::OnlineVerifier<rrr::Pose2>&,

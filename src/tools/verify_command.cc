@@ -109,6 +109,7 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
                                {"not_converged", stats.not_converged}};
     report["noise_scale"] = {{"value", stats.noise_scale},
                              {"source", stats.noise_scale_source},
+                             {"group", stats.group_noise_scale},
                              {"a_posteriori", stats.a_posteriori_scale}};
   }
   std::ofstream out(args.report);

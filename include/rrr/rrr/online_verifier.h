@@ -74,6 +74,10 @@ class OnlineVerifier {
   // given), and where it comes from ("given", "set", "loops", "clusters").
   virtual double noise_scale() const { return 1.0; }
   virtual std::string noise_scale_source() const { return "given"; }
+  // The scale of the tests of several links together, where a procedure
+  // keeps one apart (the map procedure's step 1 and groups against the
+  // map); noise_scale() where it does not.
+  virtual double group_noise_scale() const { return noise_scale(); }
   // The candidate's cluster, or -1 while it waits for a pose or is not
   // clustered yet.
   int cluster_of(int candidate) const;

@@ -32,6 +32,7 @@ struct MapVerifierStats {
   int regrouped = 0;                // of them, refuted and judged again
   double noise_scale = 1.0;         // s of the gates at the end
   std::string noise_scale_source;   // see OnlineVerifier::noise_scale_source
+  double group_noise_scale = 1.0;   // OnlineVerifier::group_noise_scale
   double a_posteriori_scale = 0.0;  // MapVerifier::APosterioriScale at the end
 };
 
@@ -168,6 +169,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   double GroupScaleAt(int pose) const;
   double noise_scale() const override;
   std::string noise_scale_source() const override;
+  // GroupScaleAt the newest pose.
+  double group_noise_scale() const override;
   // The median over the accepted clusters of their error at the map's
   // estimate per degree of freedom, Σ d²_l / (e·|S|): the a-posteriori
   // variance factor of the map at its estimate now (reports only; at each

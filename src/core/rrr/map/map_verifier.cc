@@ -48,6 +48,11 @@ double MapVerifier<Pose>::noise_scale() const {
 }
 
 template <class Pose>
+double MapVerifier<Pose>::group_noise_scale() const {
+  return GroupScaleAt(this->graph().num_poses() - 1);
+}
+
+template <class Pose>
 std::string MapVerifier<Pose>::noise_scale_source() const {
   return options_.noise_scale > 0.0 ? "set" : scale_.Source();
 }

@@ -306,6 +306,8 @@ TEST(MapVerifier, APosterioriScaleFollowsTheInformationMatrices) {
   const Verdict b = VerifyWithMap<Pose2>(scaled, options, nullptr, &fourfold);
   EXPECT_EQ(a.accepted, b.accepted);
   ASSERT_EQ(a.accepted.size(), 5u);
+  EXPECT_EQ(fourfold.noise_scale, 4.0);  // a set scale is every gate's
+  EXPECT_EQ(fourfold.group_noise_scale, 4.0);
   EXPECT_GT(given.a_posteriori_scale, 0.0);
   EXPECT_LT(given.a_posteriori_scale, 3.0);
   EXPECT_NEAR(fourfold.a_posteriori_scale, 4.0 * given.a_posteriori_scale,
@@ -376,6 +378,8 @@ TEST(MapVerifier, KeepsRevisitsThatCloseDriftTheOdometryUnderstates) {
   const size_t true_loops = biased.loops().size() - wrong.size();
   EXPECT_GE(true_accepted, 0.95 * true_loops) << true_loops << " true loops";
   EXPECT_EQ(stats.noise_scale_source, "clusters");
+  // The groups' scale is the single loops', above the clusters'.
+  EXPECT_GT(stats.group_noise_scale, stats.noise_scale);
 }
 
 TEST(MapVerifier, KeepsTheOneRevisitOfARingAmongFourTimesAsManyFalseLoops) {

@@ -35,6 +35,7 @@ Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
     *stats = verifier.stats();
     stats->noise_scale = verifier.noise_scale();
     stats->noise_scale_source = verifier.noise_scale_source();
+    stats->group_noise_scale = verifier.group_noise_scale();
     stats->a_posteriori_scale = verifier.APosterioriScale();
   }
   return verdict;
