@@ -12,7 +12,11 @@
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "rrr_node");
-  rrr::KeepFreedMemory();
+  if (!rrr::KeepFreedMemory()) {
+    ROS_WARN(
+        "rrr_node: the allocator keeps no freed memory; whole-map "
+        "updates take longer");
+  }
   ros::NodeHandle nh, private_nh("~");
   rrr_ros::NodeOptions options;
   try {

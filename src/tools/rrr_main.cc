@@ -31,7 +31,10 @@ int Run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  rrr::KeepFreedMemory();
+  if (!rrr::KeepFreedMemory()) {
+    std::cerr << "rrr: warning: the allocator keeps no freed memory; large "
+                 "graphs verify slower\n";
+  }
   try {
     return Run(argc, argv);
   } catch (const std::exception& e) {
