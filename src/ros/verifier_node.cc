@@ -69,20 +69,21 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
   if (!options_.database.empty()) Resume();
   SetVerifierState(*verifier_, &status_);
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
-  // A subscriber that joins gets the state at once if the latched message is
-  // out of date (after ~finish no update would send it).
-  const ros::SubscriberStatusCallback joined =
-      [this](const ros::SingleSubscriberPublisher&) {
-        Enqueue(Request([this] { PublishDue(true); }));
-      };
-  path_pub_ =
-      private_nh_.advertise<nav_msgs::Path>("path", 1, joined, {}, {}, true);
+  // A subscriber that joins gets the state at once if the latched message of
+  // its topic is out of date (after ~finish no update would send it).
+  const auto joined = [this](Output output) -> ros::SubscriberStatusCallback {
+    return [this, output](const ros::SingleSubscriberPublisher&) {
+      Enqueue(Request([this, output] { PublishDue(output); }));
+    };
+  };
+  path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, joined(kPath),
+                                                    {}, {}, true);
   marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>(
-      "graph", 1, joined, {}, {}, true);
+      "graph", 1, joined(kMarkers), {}, {}, true);
   decision_pub_ =
       private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
   graph_pub_ = private_nh_.advertise<rrr_slam::AcceptedGraph>(
-      "accepted_graph", 1, joined, {}, {}, true);
+      "accepted_graph", 1, joined(kGraph), {}, {}, true);
   diagnostics_pub_ =
       nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   save_srv_ = private_nh_.advertiseService("save_graph",
@@ -407,7 +408,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     decision_pub_.publish(
         DecisionsMsg(*verifier_, carried, changes, false, options_.map_frame));
   }
-  PublishDue(finish);
+  PublishDue(finish ? kAllOutputs : 0u);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -457,27 +458,30 @@ const std::vector<Pose>& VerifierNode<Pose>::FreshMap() {
 }
 
 template <class Pose>
-void VerifierNode<Pose>::PublishDue(bool now) {
+void VerifierNode<Pose>::PublishDue(unsigned now) {
   const ros::WallTime time = ros::WallTime::now();
-  // Whether a message for `pub`, behind the state (`*stale`), is due.
-  auto due = [&](const ros::Publisher& pub, bool* stale, ros::WallTime* last,
-                 double period) {
+  // Whether a message for `pub` (`output`), behind the state (`*stale`), is
+  // due.
+  auto due = [&](const ros::Publisher& pub, Output output, bool* stale,
+                 ros::WallTime* last, double period) {
     if (!*stale || pub.getNumSubscribers() == 0) return false;
-    if (!now && (time - *last).toSec() < period) return false;
+    if (!(now & output) && (time - *last).toSec() < period) return false;
     *stale = false;
     *last = time;
     return true;
   };
-  if (due(path_pub_, &path_stale_, &last_path_, options_.display_period)) {
+  if (due(path_pub_, kPath, &path_stale_, &last_path_,
+          options_.display_period)) {
     path_pub_.publish(
         PathMsg(FreshMap(), keyframes_.stamps().stamps(), options_.map_frame));
   }
-  if (due(marker_pub_, &markers_stale_, &last_markers_,
+  if (due(marker_pub_, kMarkers, &markers_stale_, &last_markers_,
           options_.display_period)) {
     marker_pub_.publish(
         GraphMarkers(*verifier_, FreshMap(), options_.map_frame));
   }
-  if (due(graph_pub_, &graph_stale_, &last_graph_, options_.graph_period)) {
+  if (due(graph_pub_, kGraph, &graph_stale_, &last_graph_,
+          options_.graph_period)) {
     graph_pub_.publish(AcceptedGraphMsg(*verifier_, FreshMap(),
                                         verifier_->AcceptedLoops(),
                                         options_.map_frame));

@@ -97,9 +97,16 @@ class VerifierNode {
   void MapChanged();
   // The keyframes' corrected poses, recomputed first if the map changed.
   const std::vector<Pose>& FreshMap();
-  // Publishes the displays and the accepted graph that are out of date and
-  // subscribed, if their period has passed or `now`.
-  void PublishDue(bool now);
+  // The latched outputs kept up to date for their subscribers, as bits.
+  enum Output : unsigned {
+    kPath = 1u,     // ~path
+    kMarkers = 2u,  // ~graph
+    kGraph = 4u,    // ~accepted_graph
+    kAllOutputs = 7u
+  };
+  // Publishes the outputs that are out of date and subscribed, if their
+  // period has passed or they are among the bits of `now`.
+  void PublishDue(unsigned now);
   // Rebuilds the verifier and the keyframes from the session database.
   void Resume();
   // How warnings name the inputs: "<kind> message <seq>".
