@@ -36,6 +36,12 @@ METHODS = {
 }
 
 
+# The spoiled-set matrix of BENCHMARKS.md ("Every spoiled set"): 108 sets.
+MATRIX = dict(datasets=["manhattanOlson3500", "intel", "city10000", "sphere2500"],
+              outliers=[100, 500, 1000], kinds=["random", "local", "grouped"], group=10,
+              seeds=[1, 2, 3], window=10)
+
+
 def run_method(spoiled, window, run_dir, method, timeout, reuse):
     """rrr verify with `method`; (report, map path) or None on timeout."""
     run_dir.mkdir(parents=True, exist_ok=True)
@@ -68,15 +74,14 @@ def run_method(spoiled, window, run_dir, method, timeout, reuse):
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--datasets", nargs="*",
-                        default=["manhattanOlson3500", "intel", "city10000", "sphere2500"])
-    parser.add_argument("--outliers", nargs="*", type=int, default=[100, 500, 1000])
-    parser.add_argument("--kinds", nargs="*", default=["random", "local", "grouped"],
+    parser.add_argument("--datasets", nargs="*", default=MATRIX["datasets"])
+    parser.add_argument("--outliers", nargs="*", type=int, default=MATRIX["outliers"])
+    parser.add_argument("--kinds", nargs="*", default=MATRIX["kinds"],
                         choices=["random", "local", "grouped"])
-    parser.add_argument("--group", type=int, default=10)
-    parser.add_argument("--seeds", nargs="*", type=int, default=[1, 2, 3])
+    parser.add_argument("--group", type=int, default=MATRIX["group"])
+    parser.add_argument("--seeds", nargs="*", type=int, default=MATRIX["seeds"])
     parser.add_argument("--methods", nargs="*", default=list(METHODS), choices=list(METHODS))
-    parser.add_argument("--window", type=int, default=10)
+    parser.add_argument("--window", type=int, default=MATRIX["window"])
     parser.add_argument("--timeout", type=float, default=900)
     parser.add_argument("--reuse", action="store_true",
                         help="score a method from its report of an earlier run in OUT")
