@@ -29,11 +29,12 @@ family and method) and generalization.png (precision and recall by family
 and method) into OUT.
 
     bench/generalization.py [--families 1 2 3 4 5 6] [--methods map published dcs gnc pcm]
-        [--timeout 600] [--reuse] [--out bench/out/generalization]
+        [--sets REGEX] [--timeout 600] [--reuse] [--out bench/out/generalization]
 """
 import argparse
 import json
 import pathlib
+import re
 import types
 
 import bicocca_sweep
@@ -248,6 +249,7 @@ def main():
     parser.add_argument("--families", nargs="*", type=int, default=[1, 2, 3, 4, 5, 6])
     parser.add_argument("--methods", nargs="*", default=["map", "published", "dcs", "gnc", "pcm"],
                         choices=list(METHODS))
+    parser.add_argument("--sets", help="only the sets whose name this regular expression finds")
     parser.add_argument("--timeout", type=float, default=600)
     parser.add_argument("--reuse", action="store_true",
                         help="score a method from its report of an earlier run on the same bytes")
@@ -262,6 +264,8 @@ def main():
           f"{'ATE':>8} {'s':>7}  misses", flush=True)
     for family in args.families:
         for s in getattr(sets, f"family{family}")():
+            if args.sets and not re.search(args.sets, s["name"]):
+                continue
             for method in args.methods:
                 run_dir = out / "runs" / s["name"] / method
                 result = run_method(s["graph"], s.get("window", 10), run_dir, method, args.timeout,
