@@ -98,11 +98,9 @@ struct MapVerifierStats {
 //     RrrOptions::optimize_every), every set-aside cluster whose error at
 //     the map's estimate is under its gate is judged again,
 //     every accepted cluster whose error is over it is judged again, and
-//     every cluster rejected or set aside under a scale at most half of
-//     today's goes through step 1 again, and so does every cluster accepted
-//     under a scale at least twice today's (it leaves the map while it is
-//     judged): a decision taken under a scale that has since changed
-//     twofold is taken again.
+//     every cluster rejected in step 1 under a scale at most half of today's
+//     goes through step 1 again, and so does every cluster accepted under a
+//     scale at least twice today's (it leaves the map while it is judged).
 // s is RrrOptions::noise_scale or, when that is 0, `noise_margin` times the
 // estimate of NoiseScaleEstimate from the loops that arrived before the pose
 // at which the cluster is judged (those that SamplesNoise); with an

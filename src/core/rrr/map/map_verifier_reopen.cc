@@ -102,14 +102,13 @@ void MapVerifier<Pose>::Reopen() {
   const double scale = NoiseScaleAt(decision_pose_);
   for (size_t c = 0; c < records_.size(); ++c) {
     ClusterRecord& record = records_[c];
-    const bool turned_down = record.status == Status::kRejected ||
-                             record.status == Status::kSetAside;
-    if (turned_down && scale >= kRejudgeScaleRatio * record.judged_scale) {
-      ++stats_.reopened;
-      JudgeCluster(static_cast<int>(c));
+    if (record.status == Status::kRejected) {
+      if (scale >= kRejudgeScaleRatio * record.judged_scale) {
+        ++stats_.reopened;
+        JudgeCluster(static_cast<int>(c));
+      }
       continue;
     }
-    if (record.status == Status::kRejected) continue;
     if (record.status == Status::kAccepted &&
         record.judged_scale >= kRejudgeScaleRatio * scale) {
       // Accepted under a scale at least twice today's: judged again, its
