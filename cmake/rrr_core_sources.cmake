@@ -19,6 +19,7 @@ set(RRR_CORE_SOURCES
   src/core/graph/odometry_chain.cc
   src/core/graph/odometry_noise.cc
   src/core/solver/local_problem.cc
+  src/core/solver/maintained_map.cc
   src/core/solver/condensed_solve.cc
   src/core/solver/pose_graph_solver.cc
   src/core/solver/process_memory.cc
@@ -30,21 +31,17 @@ set(RRR_CORE_SOURCES
   src/core/rrr/chi_square.cc
   src/core/rrr/clustering.cc
   src/core/rrr/decision_delta.cc
+  src/core/rrr/decision_reason.cc
   src/core/rrr/online_verifier.cc
   src/core/rrr/options.cc
   src/core/rrr/verdict.cc
   src/core/rrr/published/batch_verifier.cc
   src/core/rrr/published/consistency_tests.cc
   src/core/rrr/published/incremental_verifier.cc
-  src/core/rrr/map/cluster_strain.cc
-  src/core/rrr/map/loop_scale_history.cc
-  src/core/rrr/map/maintained_map.cc
-  src/core/rrr/map/map_intra_cluster.cc
+  src/core/rrr/map/map_rule.cc
   src/core/rrr/map/map_verifier.cc
-  src/core/rrr/map/map_verifier_reopen.cc
   src/core/rrr/map/map_verifier_state.cc
   src/core/rrr/map/noise_scale.cc
-  src/core/rrr/map/running_quantile.cc
   src/core/rrr/map/verify_with_map.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc

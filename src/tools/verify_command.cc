@@ -41,6 +41,34 @@ nlohmann::json PairList(const PoseGraph<Pose>& graph,
   return list;
 }
 
+// Per candidate, in file order: its pair, state, cluster and the test that
+// decided it, with what that test compared.
+template <class Pose>
+nlohmann::json DecisionList(const PoseGraph<Pose>& graph,
+                            const Verdict& verdict) {
+  std::vector<bool> accepted(graph.loops().size(), false);
+  for (const int k : verdict.accepted) accepted[k] = true;
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    const DecisionReason& r = verdict.reasons[k];
+    nlohmann::json d = {{"pair", {graph.ids()[e.from], graph.ids()[e.to]}},
+                        {"state", accepted[k] ? "accepted" : "rejected"},
+                        {"cluster", verdict.cluster_of_loop[k]},
+                        {"test", ToString(r.test)}};
+    if (r.test != DecisionTest::kNotJudged) {
+      d["statistic"] = r.statistic;
+      d["gate"] = r.gate;
+      d["dof"] = r.dof;
+      d["scale"] = r.scale;
+      d["pose"] = r.pose < 0 ? -1 : graph.ids()[r.pose];
+    }
+    if (r.by_cluster >= 0) d["by_cluster"] = r.by_cluster;
+    list.push_back(std::move(d));
+  }
+  return list;
+}
+
 template <class Pose>
 void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
             const VerifyArgs& args) {
@@ -82,6 +110,9 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
   report["clusters"] = verdict.clusters.size();
   report["accepted"] = PairList(graph, verdict.accepted);
   report["rejected"] = PairList(graph, verdict.rejected);
+  if (!verdict.reasons.empty()) {
+    report["decisions"] = DecisionList(graph, verdict);
+  }
   report["seconds"] = seconds;
   report["method"] = args.method;
   report["options"] = {
@@ -97,14 +128,11 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
       {"map_junctions", args.options.map_junctions}};
   report["final_optimization"] = MinimizeJson(final_map);
   if (args.method == "rrr" && args.options.procedure == Procedure::kMap) {
-    report["map_procedure"] = {{"intra_solves", stats.intra_solves},
-                               {"quick_accepts", stats.quick_accepts},
+    report["map_procedure"] = {{"own_solves", stats.own_solves},
                                {"trials", stats.trials},
-                               {"pruned", stats.pruned},
+                               {"quick_accepts", stats.quick_accepts},
                                {"reversals", stats.reversals},
-                               {"reopened", stats.reopened},
-                               {"reviewed", stats.reviewed},
-                               {"regrouped", stats.regrouped},
+                               {"rejudged", stats.rejudged},
                                {"optimizations", stats.optimizations},
                                {"not_converged", stats.not_converged}};
     report["noise_scale"] = {{"value", stats.noise_scale},

@@ -13,6 +13,7 @@
 #include "rrr/graph/candidate_defect.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/io/byte_stream.h"
+#include "rrr/rrr/decision_reason.h"
 #include "rrr/rrr/options.h"
 
 namespace rrr {
@@ -74,10 +75,16 @@ class OnlineVerifier {
   // given), and where it comes from ("given", "set", "loops", "clusters").
   virtual double noise_scale() const { return 1.0; }
   virtual std::string noise_scale_source() const { return "given"; }
-  // The scale of the tests of several links together, where a procedure
-  // keeps one apart (the map procedure's step 1 and groups against the
-  // map); noise_scale() where it does not.
+  // The scale of the tests whose error holds the odometry's drift, where a
+  // procedure keeps one apart (MapVerifier::GroupScaleAt); noise_scale()
+  // where it does not.
   virtual double group_noise_scale() const { return noise_scale(); }
+  // Why candidate `candidate` is in its state (DecisionTest::kNotJudged
+  // while pending, or where the procedure records no reasons).
+  virtual DecisionReason reason(int candidate) const {
+    static_cast<void>(candidate);
+    return {};
+  }
   // The candidate's cluster, or -1 while it waits for a pose or is not
   // clustered yet.
   int cluster_of(int candidate) const;

@@ -7,6 +7,7 @@
 
 #include "rrr/graph/pose_graph.h"
 #include "rrr/rrr/clustering.h"
+#include "rrr/rrr/decision_reason.h"
 
 namespace rrr {
 
@@ -16,6 +17,8 @@ struct Verdict {
   std::vector<int> rejected;         // loop indices, ascending
   std::vector<int> cluster_of_loop;  // cluster index of each loop
   std::vector<Cluster> clusters;
+  // Why each loop is in its state; empty where the method records none.
+  std::vector<DecisionReason> reasons;
 };
 
 // The verdict of per-loop decisions (accepted[k] for loop k), for methods

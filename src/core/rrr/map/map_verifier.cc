@@ -1,16 +1,12 @@
 #include "rrr/rrr/map/map_verifier.h"
 
 #include <algorithm>
-#include <iterator>
-#include <numeric>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
-#include "rrr/rrr/map/cluster_strain.h"
-#include "rrr/rrr/map/map_intra_cluster.h"
 #include "rrr/solver/condensed_solve.h"
 
 namespace rrr {
@@ -30,21 +26,21 @@ template <class Pose>
 MapVerifier<Pose>::~MapVerifier() = default;
 
 template <class Pose>
-double MapVerifier<Pose>::NoiseScaleAt(int pose) const {
+double MapVerifier<Pose>::MapScaleAt(int pose) const {
   if (options_.noise_scale > 0.0) return options_.noise_scale;
-  return options_.noise_margin * scale_.Value(loop_scales_.At(pose));
+  return options_.noise_margin * scale_.ValueAt(pose);
 }
 
 template <class Pose>
 double MapVerifier<Pose>::GroupScaleAt(int pose) const {
-  const double of_the_map = NoiseScaleAt(pose);
-  if (options_.noise_scale > 0.0) return of_the_map;
-  return std::max(of_the_map, options_.noise_margin * loop_scales_.At(pose));
+  if (options_.noise_scale > 0.0) return options_.noise_scale;
+  return options_.noise_margin *
+         std::max(scale_.PriorAt(pose), scale_.ValueAt(pose));
 }
 
 template <class Pose>
 double MapVerifier<Pose>::noise_scale() const {
-  return NoiseScaleAt(this->graph().num_poses() - 1);
+  return MapScaleAt(this->graph().num_poses() - 1);
 }
 
 template <class Pose>
@@ -54,7 +50,16 @@ double MapVerifier<Pose>::group_noise_scale() const {
 
 template <class Pose>
 std::string MapVerifier<Pose>::noise_scale_source() const {
-  return options_.noise_scale > 0.0 ? "set" : scale_.Source();
+  return options_.noise_scale > 0.0
+             ? "set"
+             : scale_.SourceAt(this->graph().num_poses() - 1);
+}
+
+template <class Pose>
+DecisionReason MapVerifier<Pose>::reason(int candidate) const {
+  const int loop = this->loop_of(candidate);
+  if (loop < 0 || loop >= static_cast<int>(reasons_.size())) return {};
+  return reasons_[loop];
 }
 
 template <class Pose>
@@ -62,10 +67,12 @@ std::vector<NoiseScaleEstimate::ClusterSample>
 MapVerifier<Pose>::AcceptedAtEstimate() const {
   std::vector<NoiseScaleEstimate::ClusterSample> samples;
   for (size_t c = 0; c < records_.size(); ++c) {
-    if (records_[c].status != Status::kAccepted) continue;
+    const ClusterRecord& record = records_[c];
+    if (record.status != Status::kAccepted) continue;
+    double error = 0.0;
+    for (const int loop : record.accepted) error += map_->LoopChi2(loop);
     samples.push_back(
-        {static_cast<int>(c), ClusterChi2AtEstimate(static_cast<int>(c)),
-         Pose::kDof * static_cast<int>(records_[c].survivors.size())});
+        {static_cast<int>(c), error, static_cast<int>(record.accepted.size())});
   }
   return samples;
 }
@@ -74,7 +81,7 @@ template <class Pose>
 double MapVerifier<Pose>::APosterioriScale() const {
   std::vector<double> per_dof;
   for (const auto& sample : AcceptedAtEstimate()) {
-    per_dof.push_back(sample.error / sample.dof);
+    per_dof.push_back(sample.error / (Pose::kDof * sample.links));
   }
   if (per_dof.empty()) return 0.0;
   const auto middle = per_dof.begin() + per_dof.size() / 2;
@@ -84,14 +91,7 @@ double MapVerifier<Pose>::APosterioriScale() const {
 
 template <class Pose>
 double MapVerifier<Pose>::Significant() const {
-  return NoiseScaleAt(decision_pose_) * Pose::kDof;
-}
-
-template <class Pose>
-double MapVerifier<Pose>::Gate(int dof) const {
-  const double scale = dof > Pose::kDof ? GroupScaleAt(decision_pose_)
-                                        : NoiseScaleAt(decision_pose_);
-  return scale * chi2_(dof);
+  return MapScaleAt(decision_pose_) * Pose::kDof;
 }
 
 template <class Pose>
@@ -107,26 +107,21 @@ void MapVerifier<Pose>::Catch() {
     const auto& e = graph.odometry()[k - 1];
     chain_.Append(e.measurement, e.information);
   }
-  // The scale before pose p counts the loops that arrived with fewer than
-  // p + 1 poses.
-  const auto record_until = [&](int poses) {
-    loop_scales_.ExtendTo(poses, scale_.FromLoops(), scale_.num_loop_samples());
-  };
   const PoseId span =
       static_cast<PoseId>(kClusterSpanWindows) * options_.cluster_window;
-  int earliest_late = graph.num_poses();  // arrival of a loop that came late
   for (int loop = static_cast<int>(this->cluster_of_loop_.size());
        loop < static_cast<int>(graph.loops().size()); ++loop) {
-    const int arrival = this->poses_at_arrival(loop);
-    record_until(arrival);
     const auto& e = graph.loops()[loop];
     const CondensedErrors alone =
         SolveCondensed(graph, chain_, {loop}, options_.convergence);
     alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2 : -1.0);
-    const bool sample = alone.errors.solved && SamplesNoise(loop);
-    if (sample) scale_.AddLoopSample(alone.errors.total_chi2);
-    if (sample && arrival < loop_scales_.size()) {
-      earliest_late = std::min(earliest_late, arrival);
+    reasons_.emplace_back();
+    if (alone.errors.solved) {
+      const Pose departure =
+          chain_.Relative(e.from, e.to).inverse() * e.measurement;
+      scale_.AddLoopSample(
+          this->poses_at_arrival(loop), alone.errors.total_chi2,
+          departure.translation().norm(), chain_.Travelled(e.from, e.to));
     }
     const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
     this->cluster_of_loop_.push_back(c);
@@ -140,28 +135,7 @@ void MapVerifier<Pose>::Catch() {
       records_[c].ready_pose = this->poses_at_arrival(loop) - 1;
     }
   }
-  record_until(graph.num_poses());
-  if (earliest_late < graph.num_poses()) RecordScalesFrom(earliest_late);
-}
-
-template <class Pose>
-void MapVerifier<Pose>::RecordScalesFrom(int pose) {
-  std::vector<std::pair<int, double>> samples;  // (arrival, D²)
-  for (int loop = 0; loop < static_cast<int>(alone_chi2_.size()); ++loop) {
-    if (alone_chi2_[loop] >= 0.0 && SamplesNoise(loop)) {
-      samples.emplace_back(this->poses_at_arrival(loop), alone_chi2_[loop]);
-    }
-  }
-  loop_scales_.RecomputeFrom(pose, std::move(samples), Pose::kDof);
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::SamplesNoise(int loop) const {
-  const auto& e = this->graph().loops()[loop];
-  const Pose departure =
-      chain_.Relative(e.from, e.to).inverse() * e.measurement;
-  return departure.translation().norm() <
-         kMostPlausibleDrift * chain_.Travelled(e.from, e.to);
+  scale_.RecordUntil(graph.num_poses());
 }
 
 template <class Pose>
@@ -175,7 +149,7 @@ int MapVerifier<Pose>::DecisionPose(int c, bool finish) const {
   }
   if (options_.noise_scale == 0.0) {
     // With an estimated scale, decisions wait for enough loops to sample it.
-    const int known = loop_scales_.FirstWith(kMinLoopSamples);
+    const int known = scale_.FirstPoseWithEnoughLoops();
     if (known < 0) return finish ? newest : -1;
     pose = std::max(pose, known);
   }
@@ -206,12 +180,12 @@ std::vector<DecisionChange> MapVerifier<Pose>::Judge(bool finish) {
     clustering_.Close(c);
     decision_pose_ = pose;
     JudgeCluster(c);
-    ReopenWhileNeeded();
+    Arbitrate();
   }
   if (finish) {
     decision_pose_ = this->graph().num_poses() - 1;
     OptimizeMap();
-    ReopenWhileNeeded();
+    Arbitrate();
   }
   return PublishStates();
 }
@@ -248,9 +222,8 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
     const ClusterRecord& record = records_[c];
     for (const int loop : clusters[c].loops) {
       LoopState state = LoopState::kPending;
-      if (record.status == Status::kAccepted &&
-          std::find(record.survivors.begin(), record.survivors.end(), loop) !=
-              record.survivors.end()) {
+      if (std::find(record.accepted.begin(), record.accepted.end(), loop) !=
+          record.accepted.end()) {
         state = LoopState::kAccepted;
       } else if (record.status != Status::kPending) {
         state = LoopState::kRejected;
@@ -267,201 +240,35 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
 }
 
 template <class Pose>
-void MapVerifier<Pose>::JudgeCluster(int c) {
+void MapVerifier<Pose>::Record(int loop, DecisionTest test, double statistic,
+                               int dof) {
+  const bool own = test == DecisionTest::kAlone ||
+                   test == DecisionTest::kOwnLink || test == DecisionTest::kOwn;
+  DecisionReason& r = reasons_[loop];
+  r.test = test;
+  r.statistic = statistic;
+  r.dof = dof;
+  r.gate = Gate(own ? Against::kOdometry : Against::kMap, dof);
+  r.scale = r.gate / chi2_(dof);
+  r.pose = decision_pose_;
+  r.by_cluster = -1;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::Accept(int c, const std::vector<int>& links,
+                               double statistic, bool from_trial) {
   ClusterRecord& record = records_[c];
-  record.judged_scale = NoiseScaleAt(decision_pose_);
-  IntraClusterOutcome intra = MapIntraCluster(
-      this->graph(), chain_, clustering_.clusters()[c].loops, alone_chi2_,
-      GroupScaleAt(decision_pose_), chi2_, options_.convergence);
-  stats_.intra_solves += intra.solves;
-  stats_.not_converged += intra.not_converged;
-  this->CountSolves(intra.solves);
-  record.refuted = intra.refuted;
-  record.survivors = std::move(intra.survivors);
-  record.left_out = std::move(intra.left_out);
-  if (record.survivors.empty()) {
-    record.status = Status::kRejected;
-    touched_.push_back(c);
-    return;
+  if (from_trial) {
+    map_->KeepTrial(Significant());
+  } else {
+    map_->Add(links, options_.map_radius, Significant());
   }
-  JudgeAgainstMap(c);
-}
-
-template <class Pose>
-MapTrial MapVerifier<Pose>::TryAgainstMap(const std::vector<int>& links,
-                                          double gate) {
-  // Links in the map (a review) are tried as if they were not.
-  const bool in_map = map_->Contains(links.front());
-  const auto attempt = [&](int radius) {
-    ++stats_.trials;
-    this->CountSolves(1);
-    return in_map ? map_->Retry(links, radius, Significant())
-                  : map_->Try(links, radius);
-  };
-  MapTrial trial = attempt(options_.map_radius);
-  // A near miss may be the held boundary's doing: look wider.
-  if (trial.minimize.solved && trial.increase >= gate &&
-      trial.increase < kNearMissFactor * gate) {
-    trial = attempt(kWideRadiusFactor * options_.map_radius);
-  }
-  if (!trial.minimize.converged) ++stats_.not_converged;
-  return trial;
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::EachLinkFits(
-    const std::vector<double>& loop_chi2) const {
-  const double one_link = Gate(Pose::kDof);
-  return std::all_of(loop_chi2.begin(), loop_chi2.end(),
-                     [&](double d2) { return d2 < one_link; });
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::Fits(const MapTrial& trial, double gate) const {
-  return trial.minimize.solved && trial.increase < gate &&
-         EachLinkFits(trial.loop_chi2);
-}
-
-template <class Pose>
-MapTrial MapVerifier<Pose>::TryPart(int c, const std::vector<int>& part,
-                                    bool* accepted) {
-  const double gate = Gate(Pose::kDof * static_cast<int>(part.size()));
-  MapTrial trial = TryAgainstMap(part, gate);
-  *accepted = Fits(trial, gate);
-  if (*accepted) {
-    records_[c].survivors = part;
-    AcceptTrial(c, trial.increase);
-  }
-  return trial;
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::Prune(int c, const MapTrial& failed) {
-  const double one_link = Gate(Pose::kDof);
-  std::vector<int> links = records_[c].survivors;
-  std::vector<double> loop_chi2 = failed.loop_chi2;
-  bool solved = failed.minimize.solved;
-  for (int dropped = 0;
-       dropped < kMostPrunedLinks && solved && links.size() > 1; ++dropped) {
-    const auto worst = std::max_element(loop_chi2.begin(), loop_chi2.end());
-    if (*worst < one_link) return false;
-    links.erase(links.begin() + (worst - loop_chi2.begin()));
-    bool accepted = false;
-    MapTrial trial = TryPart(c, links, &accepted);
-    if (accepted) {
-      ++stats_.pruned;
-      return true;
-    }
-    solved = trial.minimize.solved;
-    loop_chi2 = std::move(trial.loop_chi2);
-  }
-  return false;
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::AcceptFittingLinks(int c, const MapTrial& failed) {
-  if (!failed.minimize.solved) return false;
-  const std::vector<int>& links = records_[c].survivors;
-  const double one_link = Gate(Pose::kDof);
-  std::vector<int> fitting;
-  for (size_t k = 0; k < links.size(); ++k) {
-    if (failed.loop_chi2[k] < one_link) fitting.push_back(links[k]);
-  }
-  if (fitting.empty() || fitting.size() == links.size()) return false;
-  bool accepted = false;
-  TryPart(c, fitting, &accepted);
-  stats_.pruned += accepted;
-  return accepted;
-}
-
-template <class Pose>
-void MapVerifier<Pose>::AcceptTrial(int c, double increase) {
-  map_->KeepTrial(Significant());
-  scale_.SetClusterSample(
-      c, increase, Pose::kDof * static_cast<int>(records_[c].survivors.size()));
-  Accept(c, false);
-}
-
-template <class Pose>
-double MapVerifier<Pose>::ClusterChi2AtEstimate(int c) const {
-  double sum = 0.0;
-  for (const int loop : records_[c].survivors) sum += map_->LoopChi2(loop);
-  return sum;
-}
-
-template <class Pose>
-void MapVerifier<Pose>::JudgeAgainstMap(int c) {
-  const int e = Pose::kDof;
-  const std::vector<int>& links = records_[c].survivors;
-  const int dof = e * static_cast<int>(links.size());
-  const double gate = Gate(dof);
-  std::vector<double> link_chi2(links.size());
-  std::transform(links.begin(), links.end(), link_chi2.begin(),
-                 [&](int loop) { return map_->LoopChi2(loop); });
-  const double at_estimate =
-      std::accumulate(link_chi2.begin(), link_chi2.end(), 0.0);
-  if (at_estimate < gate && EachLinkFits(link_chi2)) {
-    ++stats_.quick_accepts;
-    scale_.SetClusterSample(c, at_estimate, dof);
-    Accept(c, true);
-    return;
-  }
-  const int wide = kWideRadiusFactor * options_.map_radius;
-  const MapTrial trial = TryAgainstMap(links, gate);
-  if (Fits(trial, gate)) {
-    AcceptTrial(c, trial.increase);
-    return;
-  }
-  if (Prune(c, trial)) return;
-  // Conflict. The accepted clusters the trial strained most, more than c
-  // is left unsatisfied (each normalized by its gate), are set aside in turn
-  // while c still does not fit; if c then fits, they stay out (reversals),
-  // else they are restored and c is set aside.
-  const double unsatisfied =
-      std::accumulate(trial.loop_chi2.begin(), trial.loop_chi2.end(), 0.0) /
-      gate;
-  const std::vector<std::pair<double, int>> strained = ClustersStrainedAbove(
-      trial.map_loops, this->cluster_of_loop_,
-      [&](int a) {
-        return Gate(e * static_cast<int>(records_[a].survivors.size()));
-      },
-      unsatisfied);
-  std::vector<int> removed;
-  size_t removed_links = 0;
-  for (const auto& [strain, a] : strained) {
-    if (removed.size() == kMostReversalsPerConflict) break;
-    removed_links += records_[a].survivors.size();
-    if (records_[c].refuted && removed_links >= links.size()) break;
-    map_->Remove(records_[a].survivors, wide, Significant());
-    removed.push_back(a);
-    ++stats_.trials;
-    this->CountSolves(1);
-    const MapTrial without = map_->Try(links, wide);
-    if (Fits(without, gate)) {
-      AcceptTrial(c, without.increase);
-      for (const int r : removed) {
-        ++stats_.reversals;
-        records_[r].status = Status::kSetAside;
-        scale_.RemoveClusterSample(r);
-        touched_.push_back(r);
-      }
-      reopen_needed_ = true;
-      return;
-    }
-  }
-  for (auto it = removed.rbegin(); it != removed.rend(); ++it) {
-    map_->Add(records_[*it].survivors, wide, Significant());
-  }
-  if (AcceptFittingLinks(c, trial)) return;
-  SetAside(c);
-}
-
-template <class Pose>
-void MapVerifier<Pose>::Accept(int c, bool add_to_map) {
-  ClusterRecord& record = records_[c];
-  if (add_to_map)
-    map_->Add(record.survivors, options_.map_radius, Significant());
   record.status = Status::kAccepted;
+  record.accepted = links;
+  std::sort(record.accepted.begin(), record.accepted.end());
+  const int dof = Pose::kDof * static_cast<int>(links.size());
+  for (const int loop : links) Record(loop, DecisionTest::kMap, statistic, dof);
+  scale_.SetClusterSample(c, statistic, static_cast<int>(links.size()));
   touched_.push_back(c);
   ++accepted_clusters_;
   if (++accepted_since_optimize_ >=
@@ -472,22 +279,26 @@ void MapVerifier<Pose>::Accept(int c, bool add_to_map) {
 }
 
 template <class Pose>
-void MapVerifier<Pose>::SetAside(int c) {
-  if (records_[c].status == Status::kAccepted) {
-    LeaveMap(c);
-    scale_.RemoveClusterSample(c);
-    reopen_needed_ = true;
-    return;
-  }
-  records_[c].status = Status::kSetAside;
+void MapVerifier<Pose>::LeaveMap(int c) {
+  map_->Remove(records_[c].accepted, options_.map_radius, Significant());
+  scale_.RemoveClusterSample(c);
+  records_[c].accepted.clear();
+  records_[c].status = Status::kRefused;
   touched_.push_back(c);
 }
 
 template <class Pose>
-void MapVerifier<Pose>::LeaveMap(int c) {
-  map_->Remove(records_[c].survivors, options_.map_radius, Significant());
-  records_[c].status = Status::kSetAside;
-  touched_.push_back(c);
+void MapVerifier<Pose>::OptimizeMap() {
+  if (!map_) return;
+  ++stats_.optimizations;
+  this->CountSolves(1);
+  const MinimizeResult result = map_->Optimize();
+  if (!result.converged) ++stats_.not_converged;
+  // At the whole map's minimum the accepted clusters' errors give the
+  // a-posteriori scale, which their trials' increases overstate.
+  scale_.SetClusterSamplesAtMinimum(AcceptedAtEstimate(), result.final_chi2);
+  accepted_since_optimize_ = 0;
+  arbiter_due_ = true;
 }
 
 template class MapVerifier<Pose2>;

@@ -9,7 +9,7 @@
 namespace rrr {
 namespace {
 
-constexpr char kStateFormat[] = "rrr map procedure state, version 1";
+constexpr char kStateFormat[] = "rrr map procedure state, version 2";
 
 // The options that decisions depend on, as bytes: a state saved under
 // others is not restored.
@@ -58,28 +58,26 @@ std::string MapVerifier<Pose>::SaveState() const {
   out.Int(static_cast<std::int64_t>(records_.size()));
   for (const ClusterRecord& r : records_) {
     out.Int(static_cast<std::int64_t>(r.status));
-    out.Ints(r.survivors);
-    out.Ints(r.left_out);
+    out.Ints(r.accepted);
     out.Int(r.ready_pose);
-    out.Double(r.judged_scale);
-    out.Int(r.reviewed_at);
-    out.Int(r.refuted ? 1 : 0);
   }
   out.Ints(pending_);
   out.Doubles(alone_chi2_);
+  for (const DecisionReason& r : reasons_) {
+    out.Int(static_cast<std::int64_t>(r.test));
+    for (const double v : {r.statistic, r.gate, r.scale}) out.Double(v);
+    for (const int v : {r.dof, r.pose, r.by_cluster}) out.Int(v);
+  }
   out.Ints(touched_);
   out.Int(chain_.num_poses());
   out.Int(map_ ? 1 : 0);
   if (map_) map_->Save(&out);
   scale_.Save(&out);
-  loop_scales_.Save(&out);
   for (const int v :
        {decision_pose_, accepted_since_optimize_, accepted_clusters_,
-        static_cast<int>(reopen_needed_), static_cast<int>(review_needed_),
-        stats_.intra_solves, stats_.quick_accepts, stats_.trials,
-        stats_.reversals, stats_.reopened, stats_.optimizations,
-        stats_.not_converged, stats_.pruned, stats_.reviewed,
-        stats_.regrouped}) {
+        static_cast<int>(arbiter_due_), stats_.own_solves, stats_.trials,
+        stats_.quick_accepts, stats_.reversals, stats_.rejudged,
+        stats_.optimizations, stats_.not_converged}) {
     out.Int(v);
   }
   return out.bytes();
@@ -100,7 +98,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   this->RestoreRecord(&in);
   const PoseGraph<Pose>& graph = this->graph();
   clustering_.Restore(&in);
-  records_.resize(in.Count("cluster records", 7 * sizeof(std::int32_t)));
+  records_.resize(in.Count("cluster records", 3 * sizeof(std::int32_t)));
   if (records_.size() != clustering_.clusters().size()) {
     throw std::runtime_error(
         "the state has " + std::to_string(records_.size()) +
@@ -109,20 +107,31 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   }
   for (ClusterRecord& r : records_) {
     const std::int64_t status = in.Int("a cluster's status");
-    if (status < 0 || status > static_cast<int>(Status::kSetAside)) {
+    if (status < 0 || status > static_cast<int>(Status::kRefused)) {
       throw std::runtime_error("a cluster has the unknown status " +
                                std::to_string(status));
     }
     r.status = static_cast<Status>(status);
-    r.survivors = in.Ints("a cluster's survivors");
-    r.left_out = in.Ints("a cluster's links left out");
+    r.accepted = in.Ints("a cluster's accepted links");
     r.ready_pose = static_cast<int>(in.Int("a cluster's ready pose"));
-    r.judged_scale = in.Double("a cluster's scale");
-    r.reviewed_at = static_cast<int>(in.Int("a cluster's review"));
-    r.refuted = in.Int("whether a cluster was refuted") != 0;
   }
   pending_ = in.Ints("the pending clusters");
   alone_chi2_ = in.Doubles("the loops' errors alone");
+  reasons_.resize(alone_chi2_.size());
+  for (DecisionReason& r : reasons_) {
+    const std::int64_t test = in.Int("a decision's test");
+    if (test < 0 || test > static_cast<int>(DecisionTest::kOutweighed)) {
+      throw std::runtime_error("a decision has the unknown test " +
+                               std::to_string(test));
+    }
+    r.test = static_cast<DecisionTest>(test);
+    for (double* v : {&r.statistic, &r.gate, &r.scale}) {
+      *v = in.Double("a decision's figure");
+    }
+    for (int* v : {&r.dof, &r.pose, &r.by_cluster}) {
+      *v = static_cast<int>(in.Int("a decision's figure"));
+    }
+  }
   touched_ = in.Ints("the changed clusters");
   const std::int64_t chain_poses = in.Int("the chain's length");
   if (chain_poses < 1 || chain_poses > graph.num_poses()) {
@@ -140,17 +149,14 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
     map_->Restore(&in);
   }
   scale_.Restore(&in);
-  loop_scales_.Restore(&in);
   for (int* v :
        {&decision_pose_, &accepted_since_optimize_, &accepted_clusters_}) {
     *v = static_cast<int>(in.Int("a counter"));
   }
-  reopen_needed_ = in.Int("whether a re-opening is due") != 0;
-  review_needed_ = in.Int("whether a review is due") != 0;
-  for (int* v : {&stats_.intra_solves, &stats_.quick_accepts, &stats_.trials,
-                 &stats_.reversals, &stats_.reopened, &stats_.optimizations,
-                 &stats_.not_converged, &stats_.pruned, &stats_.reviewed,
-                 &stats_.regrouped}) {
+  arbiter_due_ = in.Int("whether the arbiter is due") != 0;
+  for (int* v : {&stats_.own_solves, &stats_.trials, &stats_.quick_accepts,
+                 &stats_.reversals, &stats_.rejudged, &stats_.optimizations,
+                 &stats_.not_converged}) {
     *v = static_cast<int>(in.Int("a statistic"));
   }
   if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");

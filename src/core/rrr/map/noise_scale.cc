@@ -1,6 +1,9 @@
 #include "rrr/rrr/map/noise_scale.h"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "rrr/rrr/chi_square.h"
 
@@ -11,98 +14,174 @@ NoiseScaleEstimate::NoiseScaleEstimate(int residual_dim)
       chi2_quantile_ratio_(ChiSquareQuantile(kLoopQuantile)(residual_dim) /
                            residual_dim) {}
 
-void NoiseScaleEstimate::AddLoopSample(double chi2) {
-  loops_.Add(chi2 / residual_dim_);
-  UpdateFromLoops();
+void NoiseScaleEstimate::AddLoopSample(int arrival, double chi2,
+                                       double departure, double travelled) {
+  if (departure >= kMostPlausibleDrift * travelled) return;
+  loops_.emplace_back(arrival, chi2 / residual_dim_);
 }
 
-void NoiseScaleEstimate::UpdateFromLoops() {
-  if (loops_.size() == 0) return;
-  // The kLoopQuantile-quantile of D²/e over that of χ²_e/e, at most 1.
-  from_loops_ =
-      std::min(1.0, std::max(loops_.Value(), 1e-12) / chi2_quantile_ratio_);
+void NoiseScaleEstimate::RecordUntil(int poses) {
+  // The prior at pose p counts the samples with arrival <= p: recorded_
+  // holds those of the recorded poses, waiting_ (indices into loops_) the
+  // others. A sample that arrived by a recorded pose (it came late) has the
+  // entries from its arrival on computed again.
+  int from = static_cast<int>(prior_.size());
+  for (size_t k = recorded_loops_; k < loops_.size(); ++k) {
+    from = std::min(from, loops_[k].first);
+  }
+  const size_t first_new =
+      from < static_cast<int>(prior_.size()) ? 0 : recorded_loops_;
+  if (first_new == 0) {
+    prior_.resize(from);
+    prior_samples_.resize(from);
+    recorded_.clear();
+    waiting_.clear();
+  }
+  for (size_t k = first_new; k < loops_.size(); ++k) {
+    if (loops_[k].first < from) {
+      recorded_.insert(Ranked(loops_[k].second, static_cast<int>(k), 0));
+    } else {
+      waiting_.push_back(k);
+    }
+  }
+  recorded_loops_ = loops_.size();
+  std::stable_sort(waiting_.begin(), waiting_.end(), [&](size_t a, size_t b) {
+    return loops_[a].first < loops_[b].first;
+  });
+  auto next = waiting_.begin();
+  for (int p = static_cast<int>(prior_.size()); p < poses; ++p) {
+    for (; next != waiting_.end() && loops_[*next].first <= p; ++next) {
+      recorded_.insert(
+          Ranked(loops_[*next].second, static_cast<int>(*next), 0));
+    }
+    const size_t n = recorded_.size();
+    prior_samples_.push_back(static_cast<int>(n));
+    if (n == 0) {
+      prior_.push_back(1.0);
+      continue;
+    }
+    // The kLoopQuantile-quantile by the nearest lower rank.
+    const double quantile = std::get<0>(*recorded_.find_by_order(
+        static_cast<size_t>(kLoopQuantile * static_cast<double>(n - 1))));
+    prior_.push_back(
+        std::min(1.0, std::max(quantile, std::numeric_limits<double>::min()) /
+                          chi2_quantile_ratio_));
+  }
+  waiting_.erase(waiting_.begin(), next);
 }
 
-void NoiseScaleEstimate::SetClusterSample(int cluster, double increase,
-                                          int dof) {
-  SetClusterSamples({{cluster, increase, dof}});
+int NoiseScaleEstimate::FirstPoseWithEnoughLoops() const {
+  const auto known = std::lower_bound(prior_samples_.begin(),
+                                      prior_samples_.end(), kMinLoopSamples);
+  return known == prior_samples_.end()
+             ? -1
+             : static_cast<int>(known - prior_samples_.begin());
+}
+
+double NoiseScaleEstimate::PriorAt(int pose) const {
+  if (prior_.empty()) return 1.0;
+  return prior_[std::min(std::max(pose, 0),
+                         static_cast<int>(prior_.size()) - 1)];
+}
+
+std::pair<double, bool> NoiseScaleEstimate::Median(int pose) const {
+  // The lower median of the votes with kPriorLinks votes of the prior
+  // among them: if k votes lie below the prior, the prior's take the
+  // ranks k to k + kPriorLinks - 1.
+  const double prior = PriorAt(pose);
+  const size_t all = votes_.size() + kPriorLinks;
+  const size_t middle = (all - 1) / 2;
+  const size_t below = votes_.order_of_key(Ranked(prior, -1, -1));
+  if (middle < below) {
+    return {std::get<0>(*votes_.find_by_order(middle)), false};
+  }
+  if (middle < below + kPriorLinks) return {prior, true};
+  return {std::get<0>(*votes_.find_by_order(middle - kPriorLinks)), false};
+}
+
+double NoiseScaleEstimate::ValueAt(int pose) const {
+  return std::max(Median(pose).first, std::numeric_limits<double>::min());
+}
+
+std::string NoiseScaleEstimate::SourceAt(int pose) const {
+  return Median(pose).second ? "loops" : "clusters";
+}
+
+void NoiseScaleEstimate::SetClusterSample(int cluster, double error,
+                                          int links) {
+  PutClusterSample(cluster, std::max(error, 0.0) / (links * residual_dim_),
+                   links);
 }
 
 void NoiseScaleEstimate::RemoveClusterSample(int cluster) {
   const auto it = clusters_.find(cluster);
-  if (it != clusters_.end()) {
-    cluster_median_.Remove(it->second);
-    clusters_.erase(it);
+  if (it == clusters_.end()) return;
+  for (int k = 0; k < it->second.second; ++k) {
+    votes_.erase(Ranked(it->second.first, cluster, k));
   }
-  UpdateFromClusters();
+  clusters_.erase(it);
 }
 
-void NoiseScaleEstimate::PutClusterSample(int cluster, double value) {
-  const auto [it, added] = clusters_.emplace(cluster, value);
-  if (!added) {
-    cluster_median_.Remove(it->second);
-    it->second = value;
-  }
-  cluster_median_.Add(value);
-}
-
-void NoiseScaleEstimate::SetClusterSamples(
-    const std::vector<ClusterSample>& samples) {
-  for (const ClusterSample& sample : samples) {
-    PutClusterSample(sample.cluster, std::max(sample.error, 0.0) / sample.dof);
-  }
-  UpdateFromClusters();
+void NoiseScaleEstimate::PutClusterSample(int cluster, double value,
+                                          int links) {
+  RemoveClusterSample(cluster);
+  clusters_.emplace(cluster, std::make_pair(value, links));
+  for (int k = 0; k < links; ++k) votes_.insert(Ranked(value, cluster, k));
 }
 
 void NoiseScaleEstimate::SetClusterSamplesAtMinimum(
     std::vector<ClusterSample> samples, double map_chi2) {
   double loops_chi2 = 0.0;
   for (const ClusterSample& sample : samples) loops_chi2 += sample.error;
-  if (loops_chi2 > 0.0) {
-    const double map_over_loops = std::max(1.0, map_chi2 / loops_chi2);
-    for (ClusterSample& sample : samples) sample.error *= map_over_loops;
+  const double map_over_loops =
+      loops_chi2 > 0.0 ? std::max(1.0, map_chi2 / loops_chi2) : 1.0;
+  for (const ClusterSample& sample : samples) {
+    SetClusterSample(sample.cluster, sample.error * map_over_loops,
+                     sample.links);
   }
-  SetClusterSamples(samples);
-}
-
-void NoiseScaleEstimate::UpdateFromClusters() {
-  const int count = static_cast<int>(clusters_.size());
-  clusters_took_over_ = clusters_took_over_ || count >= kMinClusters;
-  if (count == 0 || !clusters_took_over_) {
-    from_clusters_ = 0.0;
-    return;
-  }
-  from_clusters_ = std::max(cluster_median_.Value(), 1e-12);
 }
 
 void NoiseScaleEstimate::Save(ByteWriter* out) const {
-  loops_.Save(out);
-  out->Int(static_cast<std::int64_t>(clusters_.size()));
-  for (const auto& [cluster, value] : clusters_) {
-    out->Int(cluster);
+  out->Int(static_cast<std::int64_t>(loops_.size()));
+  for (const auto& [arrival, value] : loops_) {
+    out->Int(arrival);
     out->Double(value);
   }
-  out->Int(clusters_took_over_ ? 1 : 0);
+  out->Int(static_cast<std::int64_t>(recorded_loops_));
+  out->Int(static_cast<std::int64_t>(prior_.size()));
+  out->Int(static_cast<std::int64_t>(clusters_.size()));
+  for (const auto& [cluster, sample] : clusters_) {
+    out->Int(cluster);
+    out->Double(sample.first);
+    out->Int(sample.second);
+  }
 }
 
 void NoiseScaleEstimate::Restore(ByteReader* in) {
-  loops_.Restore(in);
-  UpdateFromLoops();
-  const size_t n = in->Count("cluster samples", 2 * sizeof(double));
+  loops_.resize(in->Count("loop samples", 2 * sizeof(double)));
+  for (auto& [arrival, value] : loops_) {
+    arrival = static_cast<int>(in->Int("a loop sample's arrival"));
+    value = in->Double("a loop sample");
+  }
+  const std::int64_t recorded = in->Int("the loop samples recorded");
+  const std::int64_t poses = in->Int("the poses recorded");
+  if (recorded < 0 || recorded > static_cast<std::int64_t>(loops_.size()) ||
+      poses < 0) {
+    throw std::runtime_error("the noise scale's record does not fit its " +
+                             std::to_string(loops_.size()) + " samples");
+  }
+  const std::vector<std::pair<int, double>> all = std::move(loops_);
+  loops_.assign(all.begin(), all.begin() + recorded);
+  RecordUntil(static_cast<int>(poses));
+  loops_ = all;
+  const size_t n = in->Count("cluster samples", 3 * sizeof(double));
   for (size_t k = 0; k < n; ++k) {
     const int cluster = static_cast<int>(in->Int("a sample's cluster"));
-    PutClusterSample(cluster, in->Double("a cluster sample"));
+    const double value = in->Double("a cluster sample");
+    const std::int64_t links = in->Int("a cluster sample's links");
+    if (links < 1) throw std::runtime_error("a cluster sample has no links");
+    PutClusterSample(cluster, value, static_cast<int>(links));
   }
-  clusters_took_over_ = in->Int("whether clusters took over") != 0;
-  UpdateFromClusters();
-}
-
-double NoiseScaleEstimate::Value(double from_loops) const {
-  return from_clusters_ > 0.0 ? from_clusters_ : from_loops;
-}
-
-std::string NoiseScaleEstimate::Source() const {
-  return from_clusters_ > 0.0 ? "clusters" : "loops";
 }
 
 }  // namespace rrr

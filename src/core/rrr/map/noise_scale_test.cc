@@ -16,94 +16,117 @@ std::vector<double> ScaledChiSquare(int n, int e, double scale, unsigned seed) {
   return out;
 }
 
-TEST(NoiseScaleEstimate, FromLoopsRecoversASmallScale) {
-  NoiseScaleEstimate estimate(3);
-  EXPECT_EQ(estimate.FromLoops(), 1.0);  // nothing seen: as given
-  for (const double v : ScaledChiSquare(4000, 3, 0.02, 1)) {
-    estimate.AddLoopSample(v);
-  }
-  EXPECT_NEAR(estimate.FromLoops(), 0.02, 0.004);
+// Adds `chi2` as plausible loop samples that arrived at pose `arrival`.
+void AddLoops(NoiseScaleEstimate* estimate, const std::vector<double>& chi2,
+              int arrival = 0) {
+  for (const double v : chi2) estimate->AddLoopSample(arrival, v, 0.0, 1.0);
 }
 
-TEST(NoiseScaleEstimate, FromLoopsHoldsWhenMostLoopsAreFalse) {
+TEST(NoiseScaleEstimate, ThePriorRecoversASmallScale) {
+  NoiseScaleEstimate estimate(3);
+  EXPECT_EQ(estimate.ValueAt(0), 1.0);  // nothing seen: as given
+  AddLoops(&estimate, ScaledChiSquare(4000, 3, 0.02, 1));
+  estimate.RecordUntil(1);
+  EXPECT_NEAR(estimate.ValueAt(0), 0.02, 0.004);
+  EXPECT_EQ(estimate.SourceAt(0), "loops");
+}
+
+TEST(NoiseScaleEstimate, ThePriorHoldsWhenMostLoopsAreFalse) {
   NoiseScaleEstimate estimate(3);
   // 20 % true loops at scale 0.02, 80 % false ones a thousand times worse.
-  for (const double v : ScaledChiSquare(800, 3, 0.02, 2)) {
-    estimate.AddLoopSample(v);
-  }
-  for (const double v : ScaledChiSquare(3200, 3, 20.0, 3)) {
-    estimate.AddLoopSample(v);
-  }
-  EXPECT_GT(estimate.FromLoops(), 0.005);
-  EXPECT_LT(estimate.FromLoops(), 0.2);
+  AddLoops(&estimate, ScaledChiSquare(800, 3, 0.02, 2));
+  AddLoops(&estimate, ScaledChiSquare(3200, 3, 20.0, 3));
+  estimate.RecordUntil(1);
+  EXPECT_GT(estimate.ValueAt(0), 0.005);
+  EXPECT_LT(estimate.ValueAt(0), 0.2);
 }
 
-TEST(NoiseScaleEstimate, FromLoopsNeverExceedsOne) {
+TEST(NoiseScaleEstimate, ThePriorNeverExceedsOne) {
   NoiseScaleEstimate estimate(6);
-  for (const double v : ScaledChiSquare(100, 6, 40.0, 4)) {
-    estimate.AddLoopSample(v);
-  }
-  EXPECT_EQ(estimate.FromLoops(), 1.0);
+  AddLoops(&estimate, ScaledChiSquare(100, 6, 40.0, 4));
+  estimate.RecordUntil(1);
+  EXPECT_EQ(estimate.ValueAt(0), 1.0);
 }
 
-TEST(NoiseScaleEstimate, AcceptedClustersTakeOverAndAMinorityCannotMoveIt) {
+TEST(NoiseScaleEstimate, LoopsThatUndoTheWayTravelledSampleNothing) {
   NoiseScaleEstimate estimate(3);
-  for (int c = 0; c < NoiseScaleEstimate::kMinClusters - 1; ++c) {
-    estimate.SetClusterSample(c, 0.5 * 6, 6);
+  // Each departs from the odometry by 0.9 of the way travelled.
+  for (const double v : ScaledChiSquare(200, 3, 0.01, 5)) {
+    estimate.AddLoopSample(0, v, 9.0, 10.0);
   }
-  EXPECT_EQ(estimate.Source(), "loops");
-  EXPECT_EQ(estimate.Value(0.1), 0.1);
-  for (int c = NoiseScaleEstimate::kMinClusters - 1; c < 30; ++c) {
-    estimate.SetClusterSample(c, 0.5 * 6, 6);
-  }
-  EXPECT_EQ(estimate.Source(), "clusters");
-  EXPECT_DOUBLE_EQ(estimate.Value(0.1), 0.5);
-  for (int c = 30; c < 40; ++c) estimate.SetClusterSample(c, 1e4, 6);
-  EXPECT_DOUBLE_EQ(estimate.Value(0.1), 0.5);
-  // Clusters leaving the map leave the estimate.
-  for (int c = 0; c < 30; ++c) estimate.RemoveClusterSample(c);
-  EXPECT_EQ(estimate.Source(), "clusters");
-  EXPECT_GT(estimate.Value(0.1), 1000.0);
+  estimate.RecordUntil(1);
+  EXPECT_EQ(estimate.ValueAt(0), 1.0);
+  EXPECT_EQ(estimate.FirstPoseWithEnoughLoops(), -1);
 }
 
-TEST(NoiseScaleEstimate, TheClustersEstimateStaysInForceOnceItTookOver) {
-  // Clusters that leave the map after the estimate took over must not bring
-  // back the loops' estimate (looser here) that the first decisions used.
+TEST(NoiseScaleEstimate, EachPoseCountsTheLoopsThatArrivedByIt) {
   NoiseScaleEstimate estimate(3);
-  const int n = NoiseScaleEstimate::kMinClusters;
-  for (int c = 0; c < n; ++c) estimate.SetClusterSample(c, 0.2 * 6, 6);
-  ASSERT_EQ(estimate.Source(), "clusters");
-  for (int c = 0; c < n - 1; ++c) estimate.RemoveClusterSample(c);
-  EXPECT_EQ(estimate.Source(), "clusters");
-  EXPECT_DOUBLE_EQ(estimate.Value(0.9), 0.2);
-  estimate.RemoveClusterSample(n - 1);
-  EXPECT_EQ(estimate.Source(), "loops");
-  EXPECT_DOUBLE_EQ(estimate.Value(0.9), 0.9);
+  AddLoops(&estimate, ScaledChiSquare(40, 3, 0.01, 6), 5);
+  estimate.RecordUntil(10);
+  EXPECT_EQ(estimate.PriorAt(4), 1.0);
+  EXPECT_LT(estimate.PriorAt(5), 0.1);
+  EXPECT_EQ(estimate.FirstPoseWithEnoughLoops(), 5);
+  // A loop that comes late counts from its arrival on, and the poses after
+  // it are recorded again.
+  AddLoops(&estimate, {1e-6}, 2);
+  estimate.RecordUntil(12);
+  EXPECT_LT(estimate.PriorAt(2), 1e-5);
+  EXPECT_EQ(estimate.PriorAt(1), 1.0);
 }
 
-TEST(NoiseScaleEstimate, SetClusterSamplesReplacesTheSamplesOfThoseClusters) {
+TEST(NoiseScaleEstimate, AcceptedLinksOutvoteThePriorAndAMinorityCannot) {
   NoiseScaleEstimate estimate(3);
-  for (int c = 0; c < 25; ++c) estimate.SetClusterSample(c, 5.0 * 6, 6);
-  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 5.0);
-  // Twenty of them at the minimized map; the other five keep theirs.
-  std::vector<NoiseScaleEstimate::ClusterSample> at_minimum;
-  for (int c = 0; c < 20; ++c) at_minimum.push_back({c, 0.5 * 3, 3});
-  estimate.SetClusterSamples(at_minimum);
-  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 0.5);
-  for (int c = 0; c < 16; ++c) estimate.RemoveClusterSample(c);
-  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 5.0);  // 4 at 0.5, 5 at 5.0
+  AddLoops(&estimate, ScaledChiSquare(100, 3, 0.5, 7));
+  estimate.RecordUntil(1);
+  const double prior = estimate.PriorAt(0);
+  // Fewer accepted links than the prior weighs: the prior decides.
+  estimate.SetClusterSample(0, 0.01 * 3 * (NoiseScaleEstimate::kPriorLinks - 1),
+                            NoiseScaleEstimate::kPriorLinks - 1);
+  EXPECT_DOUBLE_EQ(estimate.ValueAt(0), prior);
+  // More: the map's errors decide.
+  estimate.SetClusterSample(1, 0.01 * 3 * 2, 2);
+  EXPECT_DOUBLE_EQ(estimate.ValueAt(0), 0.01);
+  EXPECT_EQ(estimate.SourceAt(0), "clusters");
+  // A wild cluster moves the median by as many votes as it has links: one
+  // link leaves it, five bring it to the next value, the prior's.
+  estimate.SetClusterSample(2, 1e4 * 3, 1);
+  EXPECT_DOUBLE_EQ(estimate.ValueAt(0), 0.01);
+  estimate.SetClusterSample(2, 1e4 * 3 * 5, 5);
+  EXPECT_DOUBLE_EQ(estimate.ValueAt(0), prior);
+  // Clusters that leave the map leave the estimate.
+  estimate.RemoveClusterSample(0);
+  estimate.RemoveClusterSample(1);
+  EXPECT_DOUBLE_EQ(estimate.ValueAt(0), prior);
 }
 
 TEST(NoiseScaleEstimate, SamplesAtTheMinimumCarryTheMapsErrorOverTheLoops) {
   NoiseScaleEstimate estimate(3);
   std::vector<NoiseScaleEstimate::ClusterSample> at_minimum;
-  for (int c = 0; c < 10; ++c) at_minimum.push_back({c, 0.1 * 6, 6});
+  for (int c = 0; c < 10; ++c) at_minimum.push_back({c, 0.1 * 6, 2});
   // The loops hold 6 of the map's 24: each sample counts four times.
   estimate.SetClusterSamplesAtMinimum(at_minimum, 24.0);
-  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 0.4);
+  EXPECT_DOUBLE_EQ(estimate.ValueAt(0), 0.4);
   // A map's error under the loops' own (not a minimum) never lowers them.
   estimate.SetClusterSamplesAtMinimum(at_minimum, 3.0);
-  EXPECT_DOUBLE_EQ(estimate.Value(1.0), 0.1);
+  EXPECT_DOUBLE_EQ(estimate.ValueAt(0), 0.1);
+}
+
+TEST(NoiseScaleEstimate, SavedAndRestoredItDecidesTheSame) {
+  NoiseScaleEstimate estimate(3);
+  AddLoops(&estimate, ScaledChiSquare(50, 3, 0.3, 8), 3);
+  estimate.RecordUntil(20);
+  estimate.SetClusterSample(4, 0.2 * 3 * 12, 12);
+  ByteWriter out;
+  estimate.Save(&out);
+  NoiseScaleEstimate restored(3);
+  ByteReader in(out.bytes());
+  restored.Restore(&in);
+  for (const int pose : {0, 3, 19, 40}) {
+    EXPECT_EQ(restored.ValueAt(pose), estimate.ValueAt(pose)) << pose;
+    EXPECT_EQ(restored.PriorAt(pose), estimate.PriorAt(pose)) << pose;
+  }
+  EXPECT_EQ(restored.FirstPoseWithEnoughLoops(),
+            estimate.FirstPoseWithEnoughLoops());
 }
 
 }  // namespace

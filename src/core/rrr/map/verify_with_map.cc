@@ -16,9 +16,11 @@ Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
 
   Verdict verdict;
   verdict.cluster_of_loop.assign(graph.loops().size(), -1);
+  verdict.reasons.resize(graph.loops().size());
   for (int c = 0; c < verifier.num_candidates(); ++c) {
     const int k = loop_of_candidate[c];
     verdict.cluster_of_loop[k] = verifier.cluster_of(c);
+    verdict.reasons[k] = verifier.reason(c);
     (verifier.state(c) == LoopState::kAccepted ? verdict.accepted
                                                : verdict.rejected)
         .push_back(k);
@@ -34,8 +36,8 @@ Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
   if (stats) {
     *stats = verifier.stats();
     stats->noise_scale = verifier.noise_scale();
-    stats->noise_scale_source = verifier.noise_scale_source();
     stats->group_noise_scale = verifier.group_noise_scale();
+    stats->noise_scale_source = verifier.noise_scale_source();
     stats->a_posteriori_scale = verifier.APosterioriScale();
   }
   return verdict;

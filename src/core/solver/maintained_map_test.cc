@@ -1,8 +1,8 @@
-#include "rrr/rrr/map/maintained_map.h"
+#include "rrr/solver/maintained_map.h"
 
 #include <gtest/gtest.h>
 
-#include "../../testing/noisy_chain.h"
+#include "../testing/noisy_chain.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/solver/edge_error.h"

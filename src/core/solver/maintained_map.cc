@@ -1,4 +1,4 @@
-#include "rrr/rrr/map/maintained_map.h"
+#include "rrr/solver/maintained_map.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>

@@ -1,6 +1,6 @@
 // The map RRR keeps between decisions: odometry and the accepted loops.
-#ifndef RRR_RRR_MAP_MAINTAINED_MAP_H_
-#define RRR_RRR_MAP_MAINTAINED_MAP_H_
+#ifndef RRR_SOLVER_MAINTAINED_MAP_H_
+#define RRR_SOLVER_MAINTAINED_MAP_H_
 
 #include <map>
 #include <memory>
@@ -143,4 +143,4 @@ class MaintainedMap {
 
 }  // namespace rrr
 
-#endif  // RRR_RRR_MAP_MAINTAINED_MAP_H_
+#endif  // RRR_SOLVER_MAINTAINED_MAP_H_

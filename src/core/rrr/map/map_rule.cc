@@ -1,0 +1,360 @@
+// MapVerifier: parts 2 to 4 of the rule (the links of a cluster that agree,
+// conflict, the arbiter). The record, the inputs and the map are in
+// map_verifier.cc, the noise scale (part 1) in noise_scale.cc.
+#include <algorithm>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/rrr/map/map_verifier.h"
+#include "rrr/solver/condensed_solve.h"
+
+namespace rrr {
+
+template <class Pose>
+double MapVerifier<Pose>::Gate(Against against, int dof) const {
+  const bool one_link_on_the_map =
+      against == Against::kMap && dof == Pose::kDof;
+  return (one_link_on_the_map ? MapScaleAt(decision_pose_)
+                              : GroupScaleAt(decision_pose_)) *
+         chi2_(dof);
+}
+
+template <class Pose>
+MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
+                                 Against against) {
+  MapTrial trial;
+  if (against == Against::kMap) {
+    trial = Widened([&](int radius) { return map_->Try(links, radius); });
+  } else {
+    ++stats_.own_solves;
+    this->CountSolves(1);
+    const CondensedErrors own =
+        SolveCondensed(this->graph(), chain_, links, options_.convergence);
+    trial.minimize = own.minimize;
+    trial.minimize.solved = own.errors.solved;
+    trial.increase = own.errors.total_chi2;
+    trial.loop_chi2 = own.errors.loop_chi2;
+  }
+  if (!trial.minimize.converged) ++stats_.not_converged;
+  return trial;
+}
+
+template <class Pose>
+template <class TryOver>
+MapTrial MapVerifier<Pose>::Widened(const TryOver& try_over) {
+  MapTrial trial = try_over(options_.map_radius);
+  ++stats_.trials;
+  this->CountSolves(1);
+  for (int radius = 2 * options_.map_radius;
+       trial.minimize.solved && !Passes(trial, Against::kMap); radius *= 2) {
+    MapTrial wider = try_over(radius);
+    ++stats_.trials;
+    this->CountSolves(1);
+    if (wider.num_free == trial.num_free) break;  // the whole region
+    const bool lowered = trial.increase - wider.increase > Significant();
+    trial = std::move(wider);
+    if (!lowered) break;
+  }
+  return trial;
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::Passes(const MapTrial& trial, Against against) const {
+  const double one_link = Gate(against, Pose::kDof);
+  const int dof = Pose::kDof * static_cast<int>(trial.loop_chi2.size());
+  return trial.minimize.solved && trial.increase < Gate(against, dof) &&
+         std::all_of(trial.loop_chi2.begin(), trial.loop_chi2.end(),
+                     [&](double d2) { return d2 < one_link; });
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::PassAtEstimate(const std::vector<int>& links,
+                                       double* sum) const {
+  const double one_link = Gate(Against::kMap, Pose::kDof);
+  bool each = true;
+  *sum = 0.0;
+  for (const int loop : links) {
+    const double d2 = map_->LoopChi2(loop);
+    *sum += d2;
+    each = each && d2 < one_link;
+  }
+  return each && *sum < Gate(Against::kMap,
+                             Pose::kDof * static_cast<int>(links.size()));
+}
+
+template <class Pose>
+std::vector<int> MapVerifier<Pose>::KeepAgreeing(std::vector<int> links,
+                                                 Against against,
+                                                 MapTrial* trial) {
+  const int e = Pose::kDof;
+  const bool map = against == Against::kMap;
+  while (!Passes(*trial, against) && trial->minimize.solved &&
+         links.size() > 1) {
+    const auto k =
+        std::max_element(trial->loop_chi2.begin(), trial->loop_chi2.end()) -
+        trial->loop_chi2.begin();
+    std::vector<int> rest = links;
+    rest.erase(rest.begin() + k);
+    MapTrial without = Test(rest, against);
+    const double brings = trial->increase - without.increase;
+    if (!without.minimize.solved || brings < Gate(against, e)) break;
+    Record(links[k], map ? DecisionTest::kMapLink : DecisionTest::kOwnLink,
+           brings, e);
+    links = std::move(rest);
+    *trial = std::move(without);
+  }
+  if (!Passes(*trial, against)) {
+    for (const int loop : links) {
+      Record(loop, map ? DecisionTest::kMap : DecisionTest::kOwn,
+             trial->increase, e * static_cast<int>(links.size()));
+    }
+    links.clear();
+  }
+  return links;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::JudgeCluster(int c) {
+  const int e = Pose::kDof;
+  ClusterRecord& record = records_[c];
+  record.status = Status::kRefused;
+  record.accepted.clear();
+  touched_.push_back(c);
+  std::vector<int> links;
+  for (const int loop : clustering_.clusters()[c].loops) {
+    if (alone_chi2_[loop] >= Gate(Against::kOdometry, e)) {
+      Record(loop, DecisionTest::kAlone, alone_chi2_[loop], e);
+    } else {
+      links.push_back(loop);
+    }
+  }
+  if (links.empty()) return;
+  // The odometry alone may split the cluster: a revisit and a false group
+  // that looks like one can each agree with themselves. The links it left
+  // out get the same test, and the map decides between the two groups, the
+  // larger first.
+  std::vector<std::vector<int>> groups;
+  while (!links.empty()) {
+    MapTrial trial = Test(links, Against::kOdometry);
+    std::vector<int> kept = KeepAgreeing(links, Against::kOdometry, &trial);
+    std::vector<int> left_out;
+    for (const int loop : links) {
+      if (reasons_[loop].test == DecisionTest::kOwnLink &&
+          std::find(kept.begin(), kept.end(), loop) == kept.end()) {
+        left_out.push_back(loop);
+      }
+    }
+    if (!kept.empty()) groups.push_back(std::move(kept));
+    if (groups.size() == 2) break;
+    links = std::move(left_out);
+  }
+  std::stable_sort(
+      groups.begin(), groups.end(),
+      [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  for (std::vector<int>& group : groups) {
+    JudgeAgainstMap(c, std::move(group));
+    if (record.status == Status::kAccepted) return;
+  }
+}
+
+template <class Pose>
+void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
+  const int e = Pose::kDof;
+  double at_estimate = 0.0;
+  if (PassAtEstimate(links, &at_estimate)) {
+    ++stats_.quick_accepts;
+    Accept(c, links, at_estimate, false);
+    return;
+  }
+  MapTrial trial = Test(links, Against::kMap);
+  if (Passes(trial, Against::kMap)) {
+    Accept(c, links, trial.increase, true);
+    return;
+  }
+  const MapTrial failed = trial;
+  std::vector<int> kept = KeepAgreeing(links, Against::kMap, &trial);
+  if (Outweigh(c, links, failed, kept.size())) return;
+  if (kept.empty()) return;
+  // The conflict's trials replaced the one to keep.
+  trial = Test(kept, Against::kMap);
+  if (!Passes(trial, Against::kMap)) {
+    const int dof = e * static_cast<int>(kept.size());
+    for (const int loop : kept) {
+      Record(loop, DecisionTest::kMap, trial.increase, dof);
+    }
+    return;
+  }
+  Accept(c, kept, trial.increase, true);
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
+                                 const MapTrial& failed, size_t kept) {
+  if (!failed.minimize.solved) return false;
+  const int e = Pose::kDof;
+  const auto gate_of = [&](size_t n) {
+    return Gate(Against::kMap, e * static_cast<int>(n));
+  };
+  // RRR's consistency index of the links in the joint solve: what they
+  // bring to the map over their gate.
+  const double theirs = failed.increase / gate_of(links.size());
+  // The accepted clusters whose links' errors the trial raised, the most
+  // (over their gate) first.
+  std::vector<std::pair<int, double>> rise;  // (cluster, Δd²)
+  for (const auto& l : failed.map_loops) {
+    rise.emplace_back(this->cluster_of_loop_[l.loop], l.after - l.before);
+  }
+  std::sort(rise.begin(), rise.end());
+  std::vector<std::pair<double, int>> strained;  // (strain, cluster)
+  for (size_t k = 0; k < rise.size();) {
+    const int a = rise[k].first;
+    double sum = 0.0;
+    for (; k < rise.size() && rise[k].first == a; ++k) sum += rise[k].second;
+    if (sum > 0.0) {
+      strained.emplace_back(sum / gate_of(records_[a].accepted.size()), a);
+    }
+  }
+  std::sort(strained.rbegin(), strained.rend());
+  // Set aside in turn while the links do not fit. What the set-aside
+  // clusters R bring to the map with the links is, by the additivity of
+  // minimal errors, Δ(R) + Δ(links with R) − Δ(links without R), with Δ(R)
+  // as when they were accepted; over R's gate, it is their consistency
+  // index in the joint solve.
+  std::vector<int> removed;
+  size_t removed_links = 0;
+  double removed_brought = 0.0;
+  for (const auto& [strain, a] : strained) {
+    const std::vector<int>& accepted = records_[a].accepted;
+    // Δ(links without R) >= 0 bounds their index from above: once it cannot
+    // exceed the links' own, no trial is needed.
+    // A reversal must keep more links in the map than part 2 would.
+    if (removed_links + accepted.size() + kept >= links.size()) break;
+    const double brought =
+        removed_brought + reasons_[accepted.front()].statistic;
+    if ((brought + failed.increase) /
+            gate_of(removed_links + accepted.size()) <=
+        theirs) {
+      break;
+    }
+    removed.push_back(a);
+    removed_links += accepted.size();
+    removed_brought = brought;
+    map_->Remove(accepted, options_.map_radius, Significant());
+    const MapTrial without = Test(links, Against::kMap);
+    if (!Passes(without, Against::kMap)) continue;
+    const double others =
+        (removed_brought + failed.increase - without.increase) /
+        gate_of(removed_links);
+    if (others <= theirs) break;
+    Accept(c, links, without.increase, true);
+    for (const int r : removed) {
+      ++stats_.reversals;
+      const int dof = e * static_cast<int>(records_[r].accepted.size());
+      for (const int loop : records_[r].accepted) {
+        Record(loop, DecisionTest::kOutweighed, others, dof);
+        reasons_[loop].gate = theirs;
+        reasons_[loop].by_cluster = c;
+      }
+      records_[r].status = Status::kRefused;
+      records_[r].accepted.clear();
+      scale_.RemoveClusterSample(r);
+      touched_.push_back(r);
+    }
+    arbiter_due_ = true;
+    return true;
+  }
+  for (auto it = removed.rbegin(); it != removed.rend(); ++it) {
+    map_->Add(records_[*it].accepted, options_.map_radius, Significant());
+  }
+  return false;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::Arbitrate() {
+  for (int round = 0; round < kMostArbiterRounds && arbiter_due_; ++round) {
+    arbiter_due_ = ArbitrateOnce();
+  }
+  arbiter_due_ = false;
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::InDoubt(int c) const {
+  const ClusterRecord& record = records_[c];
+  const int e = Pose::kDof;
+  for (const int loop : clustering_.clusters()[c].loops) {
+    const DecisionReason& r = reasons_[loop];
+    if (std::binary_search(record.accepted.begin(), record.accepted.end(),
+                           loop)) {
+      if (r.statistic >= Gate(Against::kMap, r.dof)) return true;
+    } else if (record.status != Status::kAccepted &&
+               r.test == DecisionTest::kAlone &&
+               r.statistic < Gate(Against::kOdometry, e)) {
+      return true;
+    }
+  }
+  double sum = 0.0;
+  return record.status == Status::kAccepted &&
+         !PassAtEstimate(record.accepted, &sum);
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::ArbitrateOnce() {
+  const int e = Pose::kDof;
+  bool changed = false;
+  for (size_t i = 0; i < records_.size(); ++i) {
+    const int c = static_cast<int>(i);
+    ClusterRecord& record = records_[c];
+    if (record.status == Status::kPending) continue;
+    if (InDoubt(c)) {
+      ++stats_.rejudged;
+      if (record.status == Status::kAccepted) LeaveMap(c);
+      JudgeCluster(c);
+      changed = true;
+      continue;
+    }
+    // Refused links that the map's estimate now fits, each alone and with
+    // the cluster's accepted links.
+    std::vector<int> grown = record.accepted;
+    for (const int loop : clustering_.clusters()[c].loops) {
+      if (!std::binary_search(record.accepted.begin(), record.accepted.end(),
+                              loop) &&
+          alone_chi2_[loop] < Gate(Against::kOdometry, e) &&
+          map_->LoopChi2(loop) < Gate(Against::kMap, e)) {
+        grown.push_back(loop);
+      }
+    }
+    double sum = 0.0;
+    if (grown.size() == record.accepted.size() ||
+        !PassAtEstimate(grown, &sum)) {
+      continue;
+    }
+    ++stats_.rejudged;
+    Accept(c, grown, sum, false);
+    changed = true;
+  }
+  return changed;
+}
+
+#define RRR_INSTANTIATE_RULE(Pose)                                             \
+  template double MapVerifier<Pose>::Gate(Against, int) const;                 \
+  template MapTrial MapVerifier<Pose>::Test(const std::vector<int>&, Against); \
+  template bool MapVerifier<Pose>::Passes(const MapTrial&, Against) const;     \
+  template bool MapVerifier<Pose>::PassAtEstimate(const std::vector<int>&,     \
+                                                  double*) const;              \
+  template std::vector<int> MapVerifier<Pose>::KeepAgreeing(                   \
+      std::vector<int>, Against, MapTrial*);                                   \
+  template void MapVerifier<Pose>::JudgeCluster(int);                          \
+  template void MapVerifier<Pose>::JudgeAgainstMap(int, std::vector<int>);     \
+  template bool MapVerifier<Pose>::Outweigh(int, const std::vector<int>&,      \
+                                            const MapTrial&, size_t);          \
+  template void MapVerifier<Pose>::Arbitrate();                                \
+  template bool MapVerifier<Pose>::InDoubt(int) const;                         \
+  template bool MapVerifier<Pose>::ArbitrateOnce();
+RRR_INSTANTIATE_RULE(Pose2)
+RRR_INSTANTIATE_RULE(Pose3)
+#undef RRR_INSTANTIATE_RULE
+
+}  // namespace rrr
