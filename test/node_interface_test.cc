@@ -10,6 +10,7 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -212,6 +213,25 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
     EXPECT_NE(d.state, rrr_slam::LoopDecision::PENDING);
     if (d.state == rrr_slam::LoopDecision::ACCEPTED)
       accepted.insert({d.from_id, d.to_id});
+    // With the map procedure each carries the test that decided it, as rrr
+    // verify reports it.
+    if (options.procedure == rrr::Procedure::kMap) {
+      EXPECT_NE(d.test, "not_judged");
+      EXPECT_GE(d.decided_at, 0);
+      const auto same =
+          std::find_if(g.loops().begin(), g.loops().end(), [&](const auto& l) {
+            return g.ids()[l.from] == d.from_id && g.ids()[l.to] == d.to_id;
+          });
+      ASSERT_NE(same, g.loops().end());
+      const rrr::DecisionReason& r = verdict.reasons[same - g.loops().begin()];
+      EXPECT_EQ(d.test, rrr::ToString(r.test));
+      EXPECT_DOUBLE_EQ(d.statistic, r.statistic);
+      EXPECT_DOUBLE_EQ(d.gate, r.gate);
+      if (d.test != "outweighed") {
+        EXPECT_EQ(d.statistic < d.gate,
+                  d.state == rrr_slam::LoopDecision::ACCEPTED);
+      }
+    }
   }
   EXPECT_EQ(decisions.decisions().size(), g.loops().size());
   EXPECT_EQ(accepted, expected);

@@ -80,6 +80,14 @@ rrr_slam::Decisions DecisionsMsg(
         before == previous.end() ? d.state : ToMsg(before->second);
     d.reversed =
         before != previous.end() && before->second != rrr::LoopState::kPending;
+    const rrr::DecisionReason reason = verifier.reason(c);
+    d.test = rrr::ToString(reason.test);
+    d.statistic = reason.statistic;
+    d.gate = reason.gate;
+    d.scale = reason.scale;
+    d.dof = reason.dof;
+    d.decided_at = reason.pose < 0 ? -1 : verifier.graph().ids()[reason.pose];
+    d.by_cluster = reason.by_cluster;
     if (before != previous.end()) msg.changed.push_back(msg.decisions.size());
     msg.decisions.push_back(d);
   }

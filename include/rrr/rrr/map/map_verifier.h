@@ -181,9 +181,11 @@ class MapVerifier : public OnlineVerifier<Pose> {
   MapTrial Test(const std::vector<int>& links, Against against);
   // `try_over`(radius), a trial against the map over the junctions within
   // `radius` hops, from map_radius on. Its Δ bounds the whole map's from
-  // above, so a pass is final; a failure is tried again over twice the
-  // hops while that lowers Δ by more than Significant() (the correction
-  // reaches the region's border) and the region grows.
+  // above, so a pass is final; a failure of several links is tried again
+  // over twice the hops while that lowers Δ by more than Significant() (the
+  // correction reaches the region's border), Δ is not over its gate by more
+  // than the last widening lowered it, and the region grows. A lone link is
+  // held to the region's Δ.
   template <class TryOver>
   MapTrial Widened(const TryOver& try_over);
   // Whether `trial` of links against `against` solved, with its error under

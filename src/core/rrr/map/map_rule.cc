@@ -48,15 +48,23 @@ MapTrial MapVerifier<Pose>::Widened(const TryOver& try_over) {
   MapTrial trial = try_over(options_.map_radius);
   ++stats_.trials;
   this->CountSolves(1);
+  // A lone link has no other to agree with: it is held to the region's Δ,
+  // as to the map's scale.
+  const bool group = trial.loop_chi2.size() > 1;
   for (int radius = 2 * options_.map_radius;
-       trial.minimize.solved && !Passes(trial, Against::kMap); radius *= 2) {
+       group && trial.minimize.solved && !Passes(trial, Against::kMap);
+       radius *= 2) {
     MapTrial wider = try_over(radius);
     ++stats_.trials;
     this->CountSolves(1);
     if (wider.num_free == trial.num_free) break;  // the whole region
-    const bool lowered = trial.increase - wider.increase > Significant();
+    const double lowered = trial.increase - wider.increase;
     trial = std::move(wider);
-    if (!lowered) break;
+    // The correction fades as the region grows: once Δ exceeds its gate by
+    // more than the last widening lowered it, no further one brings it under.
+    const double gate = Gate(
+        Against::kMap, Pose::kDof * static_cast<int>(trial.loop_chi2.size()));
+    if (lowered <= Significant() || trial.increase - lowered >= gate) break;
   }
   return trial;
 }

@@ -9,6 +9,7 @@
 namespace rrr {
 namespace {
 
+constexpr char kStateFamily[] = "rrr map procedure state, version ";
 constexpr char kStateFormat[] = "rrr map procedure state, version 2";
 
 // The options that decisions depend on, as bytes: a state saved under
@@ -37,13 +38,15 @@ std::string DecisionOptions(const RrrOptions& o, int dof) {
   return out.bytes();
 }
 
-// Reads the format and the options of a state; throws std::runtime_error
-// if it is not a state of the map procedure.
+// Reads the format and the options of a state: "" for a state of an earlier
+// version of the map procedure (its decisions were another rule's, so it is
+// not restored: the updates run again). Throws std::runtime_error if it is
+// not a state of the map procedure.
 std::string OptionsOfState(ByteReader* in) {
-  if (in->Text("the format") != kStateFormat) {
-    throw std::runtime_error("it is not a state of the map procedure");
-  }
-  return in->Text("the options");
+  const std::string format = in->Text("the format");
+  if (format == kStateFormat) return in->Text("the options");
+  if (format.rfind(kStateFamily, 0) == 0) return {};
+  throw std::runtime_error("it is not a state of the map procedure");
 }
 
 }  // namespace

@@ -138,6 +138,20 @@ TEST(MapVerifierState, AStateOfOtherOptionsIsNotRestored) {
   EXPECT_THROW(verifier.RestoreState(state), std::runtime_error);
 }
 
+TEST(MapVerifierState, AStateOfAnEarlierRuleIsNotRestored) {
+  // A checkpoint that an earlier version of the procedure wrote holds
+  // another rule's decisions: the session's updates run again instead.
+  ByteWriter earlier;
+  earlier.Text("rrr map procedure state, version 1");
+  earlier.Text("its options");
+  MapVerifier<Pose2> verifier{RrrOptions()};
+  EXPECT_FALSE(verifier.SavedUnderSameOptions(earlier.bytes()));
+  ByteWriter other;
+  other.Text("some other state");
+  EXPECT_THROW(verifier.SavedUnderSameOptions(other.bytes()),
+               std::runtime_error);
+}
+
 TEST(MapVerifierState, AStateOfOtherInputsOrCutShortIsRefusedNamingWhy) {
   const SimulatedWorld w = GroupedWorld();
   MapVerifier<Pose2> saver{RrrOptions()};
