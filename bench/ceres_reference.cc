@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "rrr/io/g2o.h"
+#include "rrr/solver/chordal_initialization.h"
 #include "rrr/solver/edge_error.h"
 #include "rrr/solver/pose_graph_solver.h"
 
@@ -151,11 +152,13 @@ class EdgeCost
 };
 
 template <class Pose>
-nlohmann::json Solve(const PoseGraph<Pose>& graph, int max_iterations) {
+nlohmann::json Solve(const PoseGraph<Pose>& graph, int max_iterations,
+                     bool chordal) {
   using A = Ambient<Pose>;
   const PoseGraphSolver<Pose> rrr_solver(graph, 1);
   const std::vector<int> all = AllLoops(graph);
-  const std::vector<Pose>& start = rrr_solver.initial();
+  const std::vector<Pose> start =
+      chordal ? ChordalInitialization(graph, all) : rrr_solver.initial();
   std::vector<double> values(graph.num_poses() * A::kSize);
   for (int k = 0; k < graph.num_poses(); ++k) {
     A::Store(start[k], &values[k * A::kSize]);
@@ -203,16 +206,37 @@ nlohmann::json Solve(const PoseGraph<Pose>& graph, int max_iterations) {
 }  // namespace rrr
 
 int main(int argc, char** argv) {
-  if (argc != 2 && !(argc == 4 && std::string(argv[2]) == "--max-iterations")) {
-    std::cerr << "usage: ceres_reference IN.g2o [--max-iterations N]\n";
+  const char* usage =
+      "usage: ceres_reference IN.g2o [--max-iterations N] "
+      "[--init odometry|chordal]\n";
+  if (argc < 2) {
+    std::cerr << usage;
     return 2;
   }
-  const int max_iterations = argc == 4 ? std::atoi(argv[3]) : 100;
+  int max_iterations = 100;
+  bool chordal = false;
+  for (int k = 2; k < argc; k += 2) {
+    const std::string flag = argv[k];
+    if (k + 1 >= argc) {
+      std::cerr << usage;
+      return 2;
+    }
+    const std::string value = argv[k + 1];
+    if (flag == "--max-iterations") {
+      max_iterations = std::atoi(value.c_str());
+    } else if (flag == "--init" &&
+               (value == "odometry" || value == "chordal")) {
+      chordal = value == "chordal";
+    } else {
+      std::cerr << usage;
+      return 2;
+    }
+  }
   try {
     const rrr::G2oFile file = rrr::ReadG2o(argv[1]);
-    const nlohmann::json result =
-        std::visit([&](const auto& g) { return rrr::Solve(g, max_iterations); },
-                   file.graph);
+    const nlohmann::json result = std::visit(
+        [&](const auto& g) { return rrr::Solve(g, max_iterations, chordal); },
+        file.graph);
     std::cout << result.dump() << "\n";
   } catch (const std::exception& e) {
     std::cerr << "ceres_reference: error: " << e.what() << "\n";

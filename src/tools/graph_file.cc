@@ -35,7 +35,8 @@ nlohmann::json MinimizeJson(const MinimizeResult& result) {
   return {{"iterations", result.iterations},
           {"initial_chi2", result.initial_chi2},
           {"final_chi2", result.final_chi2},
-          {"converged", result.converged}};
+          {"converged", result.converged},
+          {"stopped_by", ToString(result.stop)}};
 }
 
 G2oFile LoadGraph(const std::string& path, bool strict) {

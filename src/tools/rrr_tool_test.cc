@@ -96,26 +96,55 @@ TEST(RrrTool, OptimizeSaysWhetherItConvergedAndFailsIfNot) {
                 Tmp("opt_false.txt") + " --ground-truth " + Tmp("opt_gt.g2o"))
                 .status,
             0);
-  const Result limited = Rrr("optimize " + world + " -o " + out +
-                             " --max-iterations 1 --report " + report);
+  const Result limited =
+      Rrr("optimize " + world + " -o " + out +
+          " --init odometry --max-iterations 1 --report " + report);
   EXPECT_EQ(limited.status, 3) << limited.output;
   EXPECT_THAT(limited.output, HasSubstr("after 1 iterations, NOT converged"));
   EXPECT_THAT(limited.output,
               HasSubstr(world + ": not converged within 1 iterations"));
   nlohmann::json r = ReadJson(report);
   EXPECT_FALSE(r["optimization"]["converged"].get<bool>());
+  EXPECT_EQ(r["optimization"]["stopped_by"], "iteration_limit");
   EXPECT_EQ(r["optimization"]["iterations"].get<int>(), 1);
   const double start = r["optimization"]["initial_chi2"].get<double>();
 
-  const Result full =
-      Rrr("optimize " + world + " -o " + out + " --report " + report);
+  const Result full = Rrr("optimize " + world + " -o " + out +
+                          " --init odometry --report " + report);
   EXPECT_EQ(full.status, 0) << full.output;
   EXPECT_THAT(full.output, HasSubstr("converged"));
   r = ReadJson(report);
   EXPECT_TRUE(r["optimization"]["converged"].get<bool>());
+  EXPECT_NE(r["optimization"]["stopped_by"], "iteration_limit");
   EXPECT_GT(r["optimization"]["iterations"].get<int>(), 1);
   EXPECT_DOUBLE_EQ(r["optimization"]["initial_chi2"].get<double>(), start);
   EXPECT_LT(r["optimization"]["final_chi2"].get<double>(), 0.01 * start);
+}
+
+TEST(RrrTool, OptimizeKeepsTheLowerMinimumOfItsStarts) {
+  const std::string world = Tmp("starts_world.g2o"), out = Tmp("starts.g2o"),
+                    report = Tmp("starts.json");
+  ASSERT_EQ(
+      Rrr("simulate --poses 600 --false-loops 0 -o " + world + " -t " +
+          Tmp("starts_false.txt") + " --ground-truth " + Tmp("starts_gt.g2o"))
+          .status,
+      0);
+  ASSERT_EQ(Rrr("optimize " + world + " -o " + out + " -r " + report).status,
+            0);
+  const nlohmann::json r = ReadJson(report);
+  EXPECT_EQ(r["init"], "best");
+  const nlohmann::json& starts = r["starts"];
+  ASSERT_TRUE(starts.contains("odometry") && starts.contains("chordal"));
+  // The chordal start is nearer the minimum than the composed odometry.
+  EXPECT_LT(starts["chordal"]["initial_chi2"].get<double>(),
+            starts["odometry"]["initial_chi2"].get<double>());
+  const double kept = r["optimization"]["final_chi2"].get<double>();
+  EXPECT_LE(kept, starts["odometry"]["final_chi2"].get<double>());
+  EXPECT_LE(kept, starts["chordal"]["final_chi2"].get<double>());
+  EXPECT_EQ(starts[r["start"].get<std::string>()]["final_chi2"].get<double>(),
+            kept);
+  EXPECT_NE(Rrr("optimize " + world + " -o " + out + " --init nowhere").status,
+            0);
 }
 
 TEST(RrrTool, MendsARealFileAndRefusesItUnderStrict) {

@@ -17,8 +17,24 @@ struct ConvergenceOptions {
   double relative_decrease = 1e-9;
 };
 
+// Why a minimization stopped.
+enum class StopReason {
+  kNotRun,            // no iteration was asked for
+  kRelativeDecrease,  // the last step lowered the error by less than
+                      // ConvergenceOptions::relative_decrease of it
+  kStationary,        // the linear model predicts a decrease below that (the
+                      // gradient vanishes): a minimum to that precision
+  kNoAcceptableStep,  // no damped step lowers the error
+  kIterationLimit,    // ConvergenceOptions::max_iterations reached
+  kNotSolved,         // a linear system could not be solved
+};
+// "not_run", "relative_decrease", "stationary", "no_acceptable_step",
+// "iteration_limit" or "not_solved".
+const char* ToString(StopReason reason);
+
 // What a minimization did.
 struct MinimizeResult {
+  StopReason stop = StopReason::kNotRun;
   int iterations = 0;
   // The last step decreased the error by less than the relative threshold,
   // or no step could decrease it by that much (false: stopped by the

@@ -29,6 +29,9 @@ struct TrustRegion {
   double growth = 2.0;  // the factor of the next rise (doubles per failure)
   // Below this relative decrease of the error a step counts as none.
   double relative_decrease = 1e-9;
+  // Set by StepWithin when it returns kNoDecrease: whether the linear model
+  // predicted too small a decrease (else no damped step lowered the error).
+  bool stationary = false;
 };
 
 // What one Levenberg–Marquardt iteration did.

@@ -125,6 +125,7 @@ StepOutcome LocalProblem<Pose>::StepWithin(TrustRegion* region,
   // started, far beyond any useful step.
   constexpr int kMaxTries = 12;
   *chi2_before = *chi2_after = free_.empty() ? Chi2(*x) : Linearize(*x);
+  region->stationary = true;
   if (free_.empty()) return StepOutcome::kNoDecrease;
   const double chi2 = *chi2_before;
   const auto raise = [region] {
@@ -168,6 +169,7 @@ StepOutcome LocalProblem<Pose>::StepWithin(TrustRegion* region,
     for (size_t b = 0; b < free_.size(); ++b) (*x)[free_[b]] = saved[b];
     raise();
   }
+  region->stationary = false;
   return solved_any ? StepOutcome::kNoDecrease : StepOutcome::kNotSolved;
 }
 
@@ -187,10 +189,13 @@ MinimizeResult LocalProblem<Pose>::Minimize(std::vector<Pose>* x,
       result.initial_chi2 = result.final_chi2 = before;
     if (outcome == StepOutcome::kNotSolved) {
       result.solved = false;
+      result.stop = StopReason::kNotSolved;
       return result;
     }
     if (outcome == StepOutcome::kNoDecrease) {
       result.converged = true;
+      result.stop = region.stationary ? StopReason::kStationary
+                                      : StopReason::kNoAcceptableStep;
       return result;
     }
     ++result.iterations;
@@ -198,10 +203,30 @@ MinimizeResult LocalProblem<Pose>::Minimize(std::vector<Pose>* x,
     result.final_chi2 = chi2;
     if (decrease <= options.relative_decrease * chi2) {
       result.converged = true;
+      result.stop = StopReason::kRelativeDecrease;
       return result;
     }
   }
+  if (options.max_iterations > 0) result.stop = StopReason::kIterationLimit;
   return result;
+}
+
+const char* ToString(StopReason reason) {
+  switch (reason) {
+    case StopReason::kNotRun:
+      return "not_run";
+    case StopReason::kRelativeDecrease:
+      return "relative_decrease";
+    case StopReason::kStationary:
+      return "stationary";
+    case StopReason::kNoAcceptableStep:
+      return "no_acceptable_step";
+    case StopReason::kIterationLimit:
+      return "iteration_limit";
+    case StopReason::kNotSolved:
+      return "not_solved";
+  }
+  return "unknown";
 }
 
 template <class Pose>

@@ -178,16 +178,17 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Part 2 against the map (and 3) for `links` of cluster `c` (not in the
   // map), which passed the tests against the odometry alone.
   void JudgeAgainstMap(int c, std::vector<int> links);
+  // `links` against `against`; against the map, over the junctions within
+  // `map_radius` hops.
   MapTrial Test(const std::vector<int>& links, Against against);
-  // `try_over`(radius), a trial against the map over the junctions within
-  // `radius` hops, from map_radius on. Its Δ bounds the whole map's from
-  // above, so a pass is final; a failure of several links is tried again
-  // over twice the hops while that lowers Δ by more than Significant() (the
-  // correction reaches the region's border), Δ is not over its gate by more
-  // than the last widening lowered it, and the region grows. A lone link is
-  // held to the region's Δ.
+  // `trial`, of several links over map_radius hops, failed: `try_over`
+  // (radius) tries them over twice the hops, and again, while that lowers
+  // Δ by more than Significant() (the correction reaches the region's
+  // border), Δ is not over its gate by more than the last widening lowered
+  // it, and the region grows; returns the last trial. Δ over a region bounds
+  // the whole map's from above, so a pass is final.
   template <class TryOver>
-  MapTrial Widened(const TryOver& try_over);
+  MapTrial Widened(MapTrial trial, const TryOver& try_over);
   // Whether `trial` of links against `against` solved, with its error under
   // the gate of its dof and each link's d²_l under the gate of one.
   bool Passes(const MapTrial& trial, Against against) const;

@@ -27,7 +27,9 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
                                  Against against) {
   MapTrial trial;
   if (against == Against::kMap) {
-    trial = Widened([&](int radius) { return map_->Try(links, radius); });
+    ++stats_.trials;
+    this->CountSolves(1);
+    trial = map_->Try(links, options_.map_radius);
   } else {
     ++stats_.own_solves;
     this->CountSolves(1);
@@ -44,16 +46,9 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
 
 template <class Pose>
 template <class TryOver>
-MapTrial MapVerifier<Pose>::Widened(const TryOver& try_over) {
-  MapTrial trial = try_over(options_.map_radius);
-  ++stats_.trials;
-  this->CountSolves(1);
-  // A lone link has no other to agree with: it is held to the region's Δ,
-  // as to the map's scale.
-  const bool group = trial.loop_chi2.size() > 1;
+MapTrial MapVerifier<Pose>::Widened(MapTrial trial, const TryOver& try_over) {
   for (int radius = 2 * options_.map_radius;
-       group && trial.minimize.solved && !Passes(trial, Against::kMap);
-       radius *= 2) {
+       trial.minimize.solved && !Passes(trial, Against::kMap); radius *= 2) {
     MapTrial wider = try_over(radius);
     ++stats_.trials;
     this->CountSolves(1);
@@ -178,6 +173,16 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
     return;
   }
   MapTrial trial = Test(links, Against::kMap);
+  if (!Passes(trial, Against::kMap) && links.size() > 1) {
+    // A group may fail only by the region's held border.
+    const MapTrial wide =
+        Widened(trial, [&](int radius) { return map_->Try(links, radius); });
+    if (Passes(wide, Against::kMap)) {
+      Accept(c, links, wide.increase, true);
+      return;
+    }
+    trial = Test(links, Against::kMap);
+  }
   if (Passes(trial, Against::kMap)) {
     Accept(c, links, trial.increase, true);
     return;
