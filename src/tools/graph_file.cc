@@ -39,7 +39,7 @@ nlohmann::json MinimizeJson(const MinimizeResult& result) {
           {"stopped_by", ToString(result.stop)}};
 }
 
-G2oFile LoadGraph(const std::string& path, bool strict) {
+G2oFile LoadGraph(const std::string& path, bool strict, bool any_chains) {
   if (LooksLikeSessionDatabase(path)) {
     G2oFile file;
     SessionContents session = ReadSession(path);
@@ -97,8 +97,11 @@ G2oFile LoadGraph(const std::string& path, bool strict) {
                  "placed along the odometry chain (--strict refuses such a "
                  "file)\n";
   }
-  const std::string gap =
-      std::visit([](const auto& g) { return g.CheckChain(); }, file.graph);
+  const std::string gap = std::visit(
+      [&](const auto& g) {
+        return any_chains ? g.CheckConnected(AllLoops(g)) : g.CheckChain();
+      },
+      file.graph);
   if (!gap.empty()) throw InputError(path, 0, gap);
   return file;
 }

@@ -15,9 +15,11 @@ namespace rrr {
 // every candidate of the session, whatever its state). For g2o (see ParseG2o
 // for `strict`), warns on stderr about skipped tags, each skipped candidate
 // and each repaired information matrix (FILE:LINE and the reason), and a
-// file without vertices, and checks that the odometry chain is connected.
-// Throws InputError (SessionError) naming the file otherwise.
-G2oFile LoadGraph(const std::string& path, bool strict = false);
+// file without vertices, and checks that the odometry chain is connected
+// (with `any_chains`: that every pose is reached by some edge). Throws
+// InputError (SessionError) naming the file otherwise.
+G2oFile LoadGraph(const std::string& path, bool strict = false,
+                  bool any_chains = false);
 
 // What reading left out or mended, for a report: "skipped_candidates" by
 // reason ({"self_loop": {"count": n, "candidates": [[line, i, j], ...]},

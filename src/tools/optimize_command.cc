@@ -159,7 +159,9 @@ void AddOptimizeCommand(CLI::App& app) {
     std::vector<std::string> outputs{args->output};
     if (!args->report.empty()) outputs.push_back(args->report);
     CheckOutputPaths({args->input}, outputs);
-    const G2oFile file = LoadGraph(args->input, args->strict);
+    // Optimization needs no single odometry chain: a pose without odometry
+    // to its predecessor starts from its estimate in the file.
+    const G2oFile file = LoadGraph(args->input, args->strict, true);
     const nlohmann::json notes = InputNotes(file);
     const bool converged = std::visit(
         [&](const auto& g) { return Optimize(g, notes, *args); }, file.graph);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -58,9 +59,41 @@ TEST(RrrTool, BrokenOdometryChainIsNamed) {
   std::ofstream(gap)
       << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
          "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n";
-  const Result r = Rrr("optimize " + gap + " -o " + Tmp("o.g2o"));
+  const Result r = Rrr("verify " + gap + " -w 10 -o " + Tmp("o.g2o") + " -r " +
+                       Tmp("r.json"));
   EXPECT_EQ(r.status, 1);
   EXPECT_THAT(r.output, HasSubstr("pose 2 has no odometry edge to pose 1"));
+  // Optimization needs no chain, but a pose that no edge reaches.
+  const Result apart = Rrr("optimize " + gap + " -o " + Tmp("o.g2o"));
+  EXPECT_EQ(apart.status, 1);
+  EXPECT_THAT(apart.output,
+              HasSubstr(gap + ": pose 2 is not reached from the first pose"));
+}
+
+TEST(RrrTool, OptimizeJoinsTwoChainsByTheirLoops) {
+  // Two sessions: poses 0-1 and 2-3 (the second's odometry restarted away
+  // from the first), joined only by the loop 0 -> 2 (2 m ahead).
+  const std::string two = Tmp("two_chains.g2o"), out = Tmp("two_out.g2o");
+  std::ofstream(two) << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+                        "VERTEX_SE2 2 5 5 0\nVERTEX_SE2 3 6 5 0\n"
+                        "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
+                        "EDGE_SE2 2 3 1 0 0 1 0 0 1 0 1\n"
+                        "EDGE_SE2 0 2 2 0 0 1 0 0 1 0 1\n";
+  for (const std::string init : {"odometry", "chordal"}) {
+    const Result r = Rrr("optimize " + two + " -o " + out + " --init " + init);
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream in(out);
+    std::string line;
+    std::vector<std::string> vertices;
+    while (std::getline(in, line) && line.rfind("VERTEX", 0) == 0) {
+      vertices.push_back(line);
+    }
+    ASSERT_EQ(vertices.size(), 4u);
+    double id, x, y, theta;
+    std::istringstream(vertices[3].substr(11)) >> id >> x >> y >> theta;
+    EXPECT_NEAR(x, 3.0, 1e-6) << init;
+    EXPECT_NEAR(y, 0.0, 1e-6) << init;
+  }
 }
 
 TEST(RrrTool, BadOptionIsNamed) {

@@ -63,6 +63,11 @@ class PoseGraph {
   // Returns an empty string if every pose after the first is linked to its
   // predecessor by an odometry edge, otherwise a message naming the first gap.
   std::string CheckChain() const;
+  // Returns an empty string if every pose is reached from the first by its
+  // odometry and the loops `loops` (indices into loops()), otherwise a
+  // message naming the first pose that is not: such a graph is several maps
+  // whose relative pose nothing determines.
+  std::string CheckConnected(const std::vector<int>& loops) const;
 
  private:
   std::vector<PoseId> ids_;

@@ -19,7 +19,8 @@ namespace rrr {
 // Both are linear, so the result depends on no initial estimate; the first
 // pose keeps graph.estimates()[0]. Every pose must be reached from the first
 // by the edges used (a single odometry chain is). Throws
-// std::runtime_error if a linear system cannot be solved.
+// std::runtime_error if one is not (PoseGraph::CheckConnected) or a linear
+// system cannot be solved.
 template <class Pose>
 std::vector<Pose> ChordalInitialization(const PoseGraph<Pose>& graph,
                                         const std::vector<int>& loops);

@@ -55,20 +55,9 @@ std::vector<Pose> ChordalInitialization(const PoseGraph<Pose>& graph,
   std::vector<const Constraint<Pose>*> edges;
   for (const auto& e : graph.odometry()) edges.push_back(&e);
   for (const int k : loops) edges.push_back(&graph.loops()[k]);
-  // Every pose must be reached from the first.
-  std::vector<int> root(n);
-  for (int p = 0; p < n; ++p) root[p] = p;
-  const auto find = [&](int p) {
-    while (root[p] != p) p = root[p] = root[root[p]];
-    return p;
-  };
-  for (const auto* e : edges) root[find(e->from)] = find(e->to);
-  for (int p = 1; p < n; ++p) {
-    if (find(p) != find(0)) {
-      throw std::runtime_error(
-          "chordal initialization: pose " + std::to_string(graph.ids()[p]) +
-          " is not reached from the first pose by any edge");
-    }
+  const std::string unreached = graph.CheckConnected(loops);
+  if (!unreached.empty()) {
+    throw std::runtime_error("chordal initialization: " + unreached);
   }
   std::vector<Pose> out(n);
   if (n == 0) return out;
