@@ -4,6 +4,7 @@ set(RRR_CORE_SOURCES
   src/core/geometry/pose2.cc
   src/core/geometry/pose3.cc
   src/core/graph/pose_graph.cc
+  src/core/graph/chain_spans.cc
   src/core/io/g2o.cc
   src/core/io/text_fields.cc
   src/core/eval/trajectory_error.cc
@@ -44,6 +45,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/map/map_verifier_state.cc
   src/core/rrr/map/noise_scale.cc
   src/core/rrr/map/verify_with_map.cc
+  src/core/rrr/chains/verify_chains.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc
   src/core/session/session_tables.cc

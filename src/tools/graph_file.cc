@@ -39,7 +39,7 @@ nlohmann::json MinimizeJson(const MinimizeResult& result) {
           {"stopped_by", ToString(result.stop)}};
 }
 
-G2oFile LoadGraph(const std::string& path, bool strict, bool any_chains) {
+G2oFile LoadGraph(const std::string& path, bool strict, GraphShape shape) {
   if (LooksLikeSessionDatabase(path)) {
     G2oFile file;
     SessionContents session = ReadSession(path);
@@ -98,8 +98,16 @@ G2oFile LoadGraph(const std::string& path, bool strict, bool any_chains) {
                  "file)\n";
   }
   const std::string gap = std::visit(
-      [&](const auto& g) {
-        return any_chains ? g.CheckConnected(AllLoops(g)) : g.CheckChain();
+      [&](const auto& g) -> std::string {
+        switch (shape) {
+          case GraphShape::kOneChain:
+            return g.CheckChain();
+          case GraphShape::kConnected:
+            return g.CheckConnected(AllLoops(g));
+          case GraphShape::kAnyChains:
+            break;
+        }
+        return "";
       },
       file.graph);
   if (!gap.empty()) throw InputError(path, 0, gap);

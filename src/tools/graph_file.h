@@ -15,11 +15,15 @@ namespace rrr {
 // every candidate of the session, whatever its state). For g2o (see ParseG2o
 // for `strict`), warns on stderr about skipped tags, each skipped candidate
 // and each repaired information matrix (FILE:LINE and the reason), and a
-// file without vertices, and checks that the odometry chain is connected
-// (with `any_chains`: that every pose is reached by some edge). Throws
+// file without vertices, and checks the graph's shape as `shape` asks. Throws
 // InputError (SessionError) naming the file otherwise.
+enum class GraphShape {
+  kOneChain,   // one odometry chain (PoseGraph::CheckChain)
+  kConnected,  // any chains, every pose reached (PoseGraph::CheckConnected)
+  kAnyChains,  // any chains, joined or not
+};
 G2oFile LoadGraph(const std::string& path, bool strict = false,
-                  bool any_chains = false);
+                  GraphShape shape = GraphShape::kOneChain);
 
 // What reading left out or mended, for a report: "skipped_candidates" by
 // reason ({"self_loop": {"count": n, "candidates": [[line, i, j], ...]},

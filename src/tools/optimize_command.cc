@@ -161,7 +161,8 @@ void AddOptimizeCommand(CLI::App& app) {
     CheckOutputPaths({args->input}, outputs);
     // Optimization needs no single odometry chain: a pose without odometry
     // to its predecessor starts from its estimate in the file.
-    const G2oFile file = LoadGraph(args->input, args->strict, true);
+    const G2oFile file =
+        LoadGraph(args->input, args->strict, GraphShape::kConnected);
     const nlohmann::json notes = InputNotes(file);
     const bool converged = std::visit(
         [&](const auto& g) { return Optimize(g, notes, *args); }, file.graph);

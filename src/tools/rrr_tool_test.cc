@@ -59,14 +59,24 @@ TEST(RrrTool, BrokenOdometryChainIsNamed) {
   std::ofstream(gap)
       << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
          "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n";
-  const Result r = Rrr("verify " + gap + " -w 10 -o " + Tmp("o.g2o") + " -r " +
-                       Tmp("r.json"));
+  // Only the map procedure judges several chains.
+  const Result r = Rrr("verify " + gap + " -w 10 --procedure published -o " +
+                       Tmp("o.g2o") + " -r " + Tmp("r.json"));
   EXPECT_EQ(r.status, 1);
   EXPECT_THAT(r.output, HasSubstr("pose 2 has no odometry edge to pose 1"));
-  // Optimization needs no chain, but a pose that no edge reaches.
-  const Result apart = Rrr("optimize " + gap + " -o " + Tmp("o.g2o"));
-  EXPECT_EQ(apart.status, 1);
-  EXPECT_THAT(apart.output,
+  // It keeps chains that nothing joins apart, each a map of its own.
+  const std::string report = Tmp("chains.json");
+  const Result apart =
+      Rrr("verify " + gap + " -w 10 -o " + Tmp("o.g2o") + " -r " + report);
+  ASSERT_EQ(apart.status, 0) << apart.output;
+  const nlohmann::json chains = ReadJson(report);
+  ASSERT_EQ(chains["chains"].size(), 2u);
+  EXPECT_EQ(chains["chains"][1]["first"], 2);
+  EXPECT_EQ(chains["maps"].size(), 2u);
+  // Optimization needs every pose reached.
+  const Result unreached = Rrr("optimize " + gap + " -o " + Tmp("o.g2o"));
+  EXPECT_EQ(unreached.status, 1);
+  EXPECT_THAT(unreached.output,
               HasSubstr(gap + ": pose 2 is not reached from the first pose"));
 }
 

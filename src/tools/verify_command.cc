@@ -14,6 +14,7 @@
 #include "rrr/robust/dcs.h"
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
+#include "rrr/rrr/chains/verify_chains.h"
 #include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/rrr/published/batch_verifier.h"
 #include "rrr/solver/pose_graph_solver.h"
@@ -69,6 +70,55 @@ nlohmann::json DecisionList(const PoseGraph<Pose>& graph,
   return list;
 }
 
+// A pose as g2o writes it: x, y, θ or x, y, z, qx, qy, qz, qw.
+nlohmann::json PoseNumbers(const Pose2& p) { return {p.x(), p.y(), p.theta()}; }
+nlohmann::json PoseNumbers(const Pose3& p) {
+  const auto& t = p.translation();
+  const auto& q = p.quaternion();
+  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+}
+
+// The chains of a graph of several, the pairs of them that loops join and the
+// maps they make.
+template <class Pose>
+nlohmann::json ChainsJson(const PoseGraph<Pose>& graph,
+                          const ChainsVerdict<Pose>& chains) {
+  const auto& ids = graph.ids();
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t c = 0; c < chains.chains.size(); ++c) {
+    const ChainSpan& span = chains.chains[c];
+    list.push_back({{"first", ids[span.first]},
+                    {"last", ids[span.last]},
+                    {"poses", span.size()},
+                    {"map", chains.map_of_chain[c]}});
+  }
+  nlohmann::json pairs = nlohmann::json::array();
+  for (const ChainPair<Pose>& pair : chains.pairs) {
+    nlohmann::json p = {{"chains", {pair.first, pair.second}},
+                        {"candidates", pair.candidates.size()},
+                        {"accepted", PairList(graph, pair.accepted)},
+                        {"joined", pair.joined}};
+    if (pair.joined) {
+      p["joined_by_clusters"] = pair.joined_by;
+      p["relative_pose"] = PoseNumbers(pair.relative);
+    }
+    pairs.push_back(std::move(p));
+  }
+  nlohmann::json maps = nlohmann::json::array();
+  size_t next = 0;
+  for (size_t m = 0; m < chains.chains.size(); ++m) {
+    nlohmann::json members = nlohmann::json::array();
+    for (size_t c = 0; c < chains.chains.size(); ++c) {
+      if (chains.map_of_chain[c] == static_cast<int>(m)) members.push_back(c);
+    }
+    if (members.empty()) continue;
+    maps.push_back(
+        {{"chains", members},
+         {"final_optimization", MinimizeJson(chains.minimized[next++])}});
+  }
+  return {{"chains", list}, {"chain_pairs", pairs}, {"maps", maps}};
+}
+
 template <class Pose>
 void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
             const VerifyArgs& args) {
@@ -79,12 +129,20 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
   Verdict verdict;
   std::vector<Pose> map;
   MapVerifierStats stats;
+  nlohmann::json chains_report;
   if (args.method == "dcs") {
     verdict = VerifyWithDcs(graph, DcsOptions(), &map, &final_map);
   } else if (args.method == "gnc") {
     verdict = VerifyWithGncTls(graph, GncTlsOptions(), &map, &final_map);
   } else if (args.method == "pcm") {
     verdict = VerifyWithPcm(graph, PcmOptions(), &map, &final_map);
+  } else if (args.options.procedure == Procedure::kMap &&
+             ChainSpansOf(graph).size() > 1) {
+    ChainsVerdict<Pose> chains = VerifyChains(graph, args.options, &stats);
+    chains_report = ChainsJson(graph, chains);
+    verdict = std::move(chains.verdict);
+    map = std::move(chains.estimates);
+    final_map = chains.minimized.front();
   } else if (args.options.procedure == Procedure::kMap) {
     std::vector<Pose> maintained;
     verdict = VerifyWithMap(graph, args.options, &maintained, &stats);
@@ -107,6 +165,7 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
   report["poses"] = graph.num_poses();
   report["candidates"] = graph.loops().size();
   report.update(input_notes);
+  if (!chains_report.is_null()) report.update(chains_report);
   report["clusters"] = verdict.clusters.size();
   report["accepted"] = PairList(graph, verdict.accepted);
   report["rejected"] = PairList(graph, verdict.rejected);
@@ -232,7 +291,12 @@ void AddVerifyCommand(CLI::App& app) {
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
     CheckOutputPaths({args->input}, {args->output, args->report});
-    const G2oFile file = LoadGraph(args->input, args->strict);
+    // Only the map procedure judges a graph of several odometry chains.
+    const bool map =
+        args->method == "rrr" && args->options.procedure == Procedure::kMap;
+    const G2oFile file =
+        LoadGraph(args->input, args->strict,
+                  map ? GraphShape::kAnyChains : GraphShape::kOneChain);
     const nlohmann::json notes = InputNotes(file);
     std::visit([&](const auto& g) { Verify(g, notes, *args); }, file.graph);
   });

@@ -35,10 +35,17 @@ enum class DecisionTest {
   // its own (RRR's consistency index: of two clusters that conflict, the
   // one less consistent with the rest goes).
   kOutweighed,
+  // The links of the two clusters that joined two odometry chains: their
+  // minimal error with both chains' maps, the chains' relative pose free
+  // (e·(n−1) dof; VerifyChains).
+  kJoin,
+  // A loop between two chains that no two agreeing clusters joined: nothing
+  // relates their frames, so nothing can confirm it (no statistic).
+  kApart,
 };
 
-// "not_judged", "alone", "own_link", "own", "map_link", "map" or
-// "outweighed".
+// "not_judged", "alone", "own_link", "own", "map_link", "map",
+// "outweighed", "join" or "apart".
 const char* ToString(DecisionTest test);
 
 // The test that put a candidate in its state, with what it compared.

@@ -18,6 +18,10 @@ const char* ToString(DecisionTest test) {
       return "map";
     case DecisionTest::kOutweighed:
       return "outweighed";
+    case DecisionTest::kJoin:
+      return "join";
+    case DecisionTest::kApart:
+      return "apart";
   }
   return "unknown";
 }

@@ -1,0 +1,86 @@
+// The map procedure over a graph of several odometry chains: sessions of one
+// robot, or robots of a fleet, joined only by loop closures.
+#ifndef RRR_RRR_CHAINS_VERIFY_CHAINS_H_
+#define RRR_RRR_CHAINS_VERIFY_CHAINS_H_
+
+#include <vector>
+
+#include "rrr/graph/chain_spans.h"
+#include "rrr/graph/pose_graph.h"
+#include "rrr/rrr/map/map_verifier.h"
+#include "rrr/rrr/options.h"
+#include "rrr/rrr/verdict.h"
+#include "rrr/solver/convergence.h"
+
+namespace rrr {
+
+// Two chains and the loops between them.
+template <class Pose>
+struct ChainPair {
+  int first = 0;                // chain index
+  int second = 0;               // chain index, > first
+  std::vector<int> candidates;  // loop indices between them, ascending
+  std::vector<int> accepted;    // of those, ascending
+  std::vector<int> joined_by;   // the clusters that joined them
+  bool joined = false;
+  // When joined: the second chain's frame in the first's, so that
+  // x_first_frame = relative · x_second_frame.
+  Pose relative;
+};
+
+// What VerifyChains decided.
+template <class Pose>
+struct ChainsVerdict {
+  std::vector<ChainSpan> chains;
+  // The map each chain ended in: the lowest index of the chains joined with
+  // it (itself if joined with none). A map is in the frame of its lowest
+  // chain; chains never joined stay apart, each in its own frame.
+  std::vector<int> map_of_chain;
+  std::vector<ChainPair<Pose>> pairs;  // every pair with candidates
+  Verdict verdict;                     // over every loop of the graph
+  std::vector<Pose> estimates;         // every pose, in its map's frame
+  // With several chains: each map's final minimization, in the order of
+  // their lowest chains.
+  std::vector<MinimizeResult> minimized;
+};
+
+// Judges the loops of `graph`, which may hold several odometry chains
+// (ChainSpansOf). The loops inside a chain are judged by the map procedure
+// on that chain alone, exactly as VerifyWithMap would judge them were it the
+// whole graph. The loops between two chains are clustered per pair
+// (`options.cluster_window` on both ends) and judged by the joining rule:
+//  1. Until two chains are joined nothing relates their frames, so no single
+//     cluster can be refuted or confirmed by them: one false cluster that
+//     agrees with itself (a look-alike place seen by both) is exactly as
+//     consistent as a true one. A cluster of at least two links is first
+//     held to its own consistency (the links minimized with both chains'
+//     maps, the chains' relative pose free: the error they bring, against
+//     the gate of e·(n−1) dof; the worst link goes while what it brings
+//     exceeds one link's gate).
+//  2. Two chains are joined only by two clusters that agree: the second's
+//     links fit the map that the first has joined (their error at its
+//     estimate under their gate, which bounds what they would bring), and
+//     both together pass the gate of their links (e·(n1+n2−1) dof). Clusters
+//     are tried largest first. One false cluster never suffices; two false
+//     clusters must agree on the same relative pose.
+//  3. Once joined, the other clusters between the two chains are judged
+//     against the joined map, largest first: accepted when the error their
+//     links bring is under the gate of their dof (their error at the map's
+//     estimate bounds it; else the map is minimized with them and moves to
+//     that minimum if they pass). A cluster of one link is held to the map
+//     scale, several links to the group scale.
+//  4. Joined pairs make joined maps (chains joined through a third are in
+//     one map). Every map is minimized with its accepted loops. Loops
+//     between chains never joined are refused (test "apart").
+// Gates use the larger of the two chains' final noise scales (group scale
+// for clusters, map scale for one link). A graph of one chain is judged by
+// VerifyWithMap itself. `stats`, if given, sums the chains' statistics.
+// Throws std::invalid_argument if `options` do not validate.
+template <class Pose>
+ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
+                                 const RrrOptions& options,
+                                 MapVerifierStats* stats = nullptr);
+
+}  // namespace rrr
+
+#endif  // RRR_RRR_CHAINS_VERIFY_CHAINS_H_

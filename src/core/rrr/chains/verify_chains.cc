@@ -1,0 +1,464 @@
+#include "rrr/rrr/chains/verify_chains.h"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <utility>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/rrr/chi_square.h"
+#include "rrr/rrr/clustering.h"
+#include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/solver/pose_graph_solver.h"
+
+namespace rrr {
+namespace {
+
+// The loops between two chains, judged by rules 1–3 of VerifyChains over
+// the graph of the two chains: their poses at their own maps (each in its
+// own frame), their odometry, their accepted loops, then the candidates.
+template <class Pose>
+class PairJudge {
+ public:
+  // `verdict` receives the candidates' decisions, reasons and clusters.
+  PairJudge(const PoseGraph<Pose>& graph, const ChainSpan& a,
+            const ChainSpan& b, const std::vector<Pose>& estimates,
+            const std::vector<int>& accepted_inside, ChainPair<Pose>* pair,
+            const RrrOptions& options, double group_scale, double map_scale,
+            Verdict* verdict)
+      : pair_graph_(SubGraph(graph, {a, b}, estimates,
+                             Concat(accepted_inside, pair->candidates))),
+        solver_(pair_graph_, 1),
+        first_of_b_(a.size()),
+        num_inside_(static_cast<int>(accepted_inside.size())),
+        inside_(Range(0, num_inside_)),
+        apart_error_(
+            solver_.Evaluate(inside_, pair_graph_.estimates()).total_chi2),
+        pair_(pair),
+        chi2_(options.alpha),
+        group_scale_(group_scale),
+        map_scale_(map_scale),
+        verdict_(verdict) {
+    Clustering clustering(options.cluster_window);
+    const auto& ids = graph.ids();
+    for (size_t k = 0; k < pair->candidates.size(); ++k) {
+      const auto& e = graph.loops()[pair->candidates[k]];
+      clustering.Add(static_cast<int>(k), ids[e.from], ids[e.to]);
+    }
+    for (const Cluster& c : clustering.clusters()) {
+      const int index = static_cast<int>(verdict->clusters.size());
+      Cluster global = c;
+      global.loops.clear();
+      for (const int k : c.loops) {
+        global.loops.push_back(pair->candidates[k]);
+        verdict->cluster_of_loop[pair->candidates[k]] = index;
+      }
+      verdict->clusters.push_back(global);
+      clusters_.push_back({index, c.loops});
+    }
+  }
+
+  void Judge() {
+    // Rule 1: each cluster's own consistency.
+    std::vector<const PairCluster*> agreeing;
+    for (PairCluster& c : clusters_) {
+      if (c.links.size() >= 2 && KeepAgreeing(&c)) agreeing.push_back(&c);
+    }
+    std::stable_sort(agreeing.begin(), agreeing.end(),
+                     [](const PairCluster* x, const PairCluster* y) {
+                       return x->links.size() > y->links.size();
+                     });
+    // Rule 2: two clusters that agree join the chains.
+    std::vector<Pose> joined;
+    for (size_t i = 0; i < agreeing.size() && !pair_->joined; ++i) {
+      const std::vector<Pose> one = Minimize(agreeing[i]->links);
+      for (size_t j = 0; j < agreeing.size() && !pair_->joined; ++j) {
+        if (j == i) continue;
+        TryJoin(*agreeing[i], *agreeing[j], one, &joined);
+      }
+    }
+    // Rule 3: the other clusters against the joined map, largest first; or
+    // none, apart.
+    std::vector<std::vector<int>> rest;
+    for (const PairCluster& c : clusters_) {
+      std::vector<int> open;
+      for (const int k : c.links) {
+        if (!Decided(k)) open.push_back(k);
+      }
+      if (!open.empty()) rest.push_back(open);
+    }
+    if (!pair_->joined) {
+      for (const auto& links : rest) {
+        for (const int k : links) Decide(k, false, {DecisionTest::kApart});
+      }
+      return;
+    }
+    std::stable_sort(rest.begin(), rest.end(),
+                     [](const std::vector<int>& x, const std::vector<int>& y) {
+                       return x.size() > y.size();
+                     });
+    for (const auto& links : rest) JudgeAgainstJoined(links, &joined);
+    pair_->relative =
+        joined[first_of_b_] * pair_graph_.estimates()[first_of_b_].inverse();
+  }
+
+ private:
+  struct PairCluster {
+    int index;               // into verdict_->clusters
+    std::vector<int> links;  // indices into pair_->candidates, kept so far
+  };
+
+  static std::vector<int> Concat(std::vector<int> x,
+                                 const std::vector<int>& y) {
+    x.insert(x.end(), y.begin(), y.end());
+    return x;
+  }
+  static std::vector<int> Range(int begin, int end) {
+    std::vector<int> r(end - begin);
+    std::iota(r.begin(), r.end(), begin);
+    return r;
+  }
+
+  // Loop indices of the pair graph: the accepted loops inside, then `links`.
+  std::vector<int> Active(const std::vector<int>& links) const {
+    return Concat(inside_, Links(links));
+  }
+  std::vector<int> Links(const std::vector<int>& links) const {
+    std::vector<int> out;
+    for (const int k : links) out.push_back(num_inside_ + k);
+    return out;
+  }
+
+  // Both maps, the second chain's moved so that `link` holds exactly.
+  std::vector<Pose> StartAt(int link) const {
+    const auto& e = pair_graph_.loops()[num_inside_ + link];
+    const bool from_a = e.from < first_of_b_;
+    const int i = from_a ? e.from : e.to;
+    const int j = from_a ? e.to : e.from;
+    const Pose z = from_a ? e.measurement : e.measurement.inverse();
+    std::vector<Pose> x = pair_graph_.estimates();
+    const Pose moved = x[i] * z * x[j].inverse();
+    for (size_t p = first_of_b_; p < x.size(); ++p) x[p] = moved * x[p];
+    return x;
+  }
+
+  // The two maps minimized with `links` from `start` (default: both maps
+  // placed by the first link); `*brought` is the error the links bring.
+  std::vector<Pose> Minimize(const std::vector<int>& links,
+                             double* brought = nullptr,
+                             const std::vector<Pose>* start = nullptr) const {
+    const std::vector<Pose> placed = start ? *start : StartAt(links.front());
+    MinimizeResult result;
+    std::vector<Pose> x =
+        solver_.Optimize(Active(links), ConvergenceOptions{}, &result, &placed);
+    // Not converged, the error reached still bounds the minimum from above.
+    if (brought) *brought = result.final_chi2 - apart_error_;
+    return x;
+  }
+
+  // Rule 1 for cluster `c`; returns whether links that agree remain (at
+  // least two).
+  bool KeepAgreeing(PairCluster* c) {
+    const int e = Pose::kDof;
+    double brought;
+    Minimize(c->links, &brought);
+    while (c->links.size() >= 2) {
+      const int dof = e * (static_cast<int>(c->links.size()) - 1);
+      const double gate = group_scale_ * chi2_(dof);
+      if (brought < gate) return true;
+      // The link that brings most: the error with it minus without it.
+      double most = -1.0, without_most = 0.0;
+      size_t worst = 0;
+      for (size_t n = 0; n < c->links.size(); ++n) {
+        std::vector<int> rest = c->links;
+        rest.erase(rest.begin() + n);
+        double without = 0.0;
+        if (rest.size() >= 2) Minimize(rest, &without);
+        if (brought - without > most) {
+          most = brought - without;
+          without_most = without;
+          worst = n;
+        }
+      }
+      const double link_gate = group_scale_ * chi2_(e);
+      if (most < link_gate) {
+        for (const int k : c->links) {
+          Decide(k, false,
+                 {DecisionTest::kOwn, brought, gate, group_scale_, dof});
+        }
+        c->links.clear();
+        return false;
+      }
+      Decide(c->links[worst], false,
+             {DecisionTest::kOwnLink, most, link_gate, group_scale_, e});
+      c->links.erase(c->links.begin() + worst);
+      brought = without_most;
+    }
+    return false;
+  }
+
+  // Rule 2 for `first` (minimized alone to `one`) and `second`: joins the
+  // chains and sets `*joined` to the joined map if they agree.
+  void TryJoin(const PairCluster& first, const PairCluster& second,
+               const std::vector<Pose>& one, std::vector<Pose>* joined) {
+    const int e = Pose::kDof;
+    const SubsetErrors fit = solver_.Evaluate(Links(second.links), one);
+    const double fit_error =
+        std::accumulate(fit.loop_chi2.begin(), fit.loop_chi2.end(), 0.0);
+    const int n2 = static_cast<int>(second.links.size());
+    if (!(fit_error < group_scale_ * chi2_(e * n2))) return;
+    const std::vector<int> both = Concat(first.links, second.links);
+    double brought;
+    std::vector<Pose> x = Minimize(both, &brought, &one);
+    const int dof = e * (static_cast<int>(both.size()) - 1);
+    const double gate = group_scale_ * chi2_(dof);
+    if (!(brought < gate)) return;
+    pair_->joined = true;
+    pair_->joined_by = {first.index, second.index};
+    in_map_ = both;
+    brought_ = brought;
+    for (const int k : both) {
+      Decide(k, true, {DecisionTest::kJoin, brought, gate, group_scale_, dof});
+    }
+    *joined = std::move(x);
+  }
+
+  // Rule 3 for the links `links` of one cluster: accepted if the error they
+  // bring to the joined map `*joined` is under their gate (their error at
+  // its estimate bounds it; else minimized with them, and `*joined` moves).
+  void JudgeAgainstJoined(const std::vector<int>& links,
+                          std::vector<Pose>* joined) {
+    const int n = static_cast<int>(links.size());
+    const int dof = Pose::kDof * n;
+    const double scale = n == 1 ? map_scale_ : group_scale_;
+    const double gate = scale * chi2_(dof);
+    const SubsetErrors fit = solver_.Evaluate(Links(links), *joined);
+    double brings =
+        std::accumulate(fit.loop_chi2.begin(), fit.loop_chi2.end(), 0.0);
+    if (!(brings < gate)) {
+      double with;
+      std::vector<Pose> x = Minimize(Concat(in_map_, links), &with, joined);
+      brings = with - brought_;
+      if (brings < gate) {
+        *joined = std::move(x);
+        brought_ = with;
+      }
+    }
+    const bool accept = brings < gate;
+    for (const int k : links) {
+      Decide(k, accept, {DecisionTest::kMap, brings, gate, scale, dof});
+    }
+    if (accept) in_map_ = Concat(in_map_, links);
+  }
+
+  bool Decided(int k) const { return decided_.count(k) > 0; }
+  void Decide(int k, bool accept, DecisionReason reason) {
+    decided_[k] = accept;
+    const int loop = pair_->candidates[k];
+    verdict_->reasons[loop] = reason;
+    (accept ? pair_->accepted : verdict_->rejected).push_back(loop);
+    if (accept) verdict_->accepted.push_back(loop);
+  }
+
+  const PoseGraph<Pose> pair_graph_;
+  const PoseGraphSolver<Pose> solver_;
+  const int first_of_b_;
+  const int num_inside_;
+  const std::vector<int> inside_;
+  const double apart_error_;  // both maps, no link between them
+  ChainPair<Pose>* pair_;
+  const ChiSquareQuantile chi2_;
+  const double group_scale_;
+  const double map_scale_;
+  Verdict* verdict_;
+  std::vector<PairCluster> clusters_;
+  std::map<int, bool> decided_;
+  std::vector<int> in_map_;  // the links between the chains accepted so far
+  double brought_ = 0.0;     // the error they bring
+};
+
+// Union–find over chains: the lowest index of each set is its root.
+int MapOf(std::vector<int>* root, int c) {
+  while ((*root)[c] != c) c = (*root)[c] = (*root)[(*root)[c]];
+  return c;
+}
+
+}  // namespace
+
+template <class Pose>
+ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
+                                 const RrrOptions& options,
+                                 MapVerifierStats* stats) {
+  ChainsVerdict<Pose> out;
+  out.chains = ChainSpansOf(graph);
+  const int num_chains = static_cast<int>(out.chains.size());
+  out.map_of_chain.resize(num_chains);
+  std::iota(out.map_of_chain.begin(), out.map_of_chain.end(), 0);
+  if (num_chains <= 1) {
+    out.verdict = VerifyWithMap(graph, options, &out.estimates, stats);
+    return out;
+  }
+  Verdict& verdict = out.verdict;
+  verdict.cluster_of_loop.assign(graph.loops().size(), -1);
+  verdict.reasons.resize(graph.loops().size());
+  out.estimates = graph.estimates();
+
+  // The loops inside each chain, and between each pair.
+  std::vector<std::vector<int>> inside(num_chains);
+  std::map<std::pair<int, int>, std::vector<int>> between;
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    const int a = ChainHolding(out.chains, e.from);
+    const int b = ChainHolding(out.chains, e.to);
+    if (a == b) {
+      inside[a].push_back(static_cast<int>(k));
+    } else {
+      between[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(k));
+    }
+  }
+
+  // Each chain alone, as if it were the whole graph.
+  std::vector<std::vector<int>> accepted_inside(num_chains);
+  std::vector<MapVerifierStats> chain_stats(num_chains);
+  for (int c = 0; c < num_chains; ++c) {
+    const ChainSpan& span = out.chains[c];
+    const PoseGraph<Pose> alone =
+        SubGraph(graph, {span}, graph.estimates(), inside[c]);
+    std::vector<Pose> map;
+    const Verdict v = VerifyWithMap(alone, options, &map, &chain_stats[c]);
+    std::copy(map.begin(), map.end(), out.estimates.begin() + span.first);
+    const int offset = static_cast<int>(verdict.clusters.size());
+    for (Cluster cluster : v.clusters) {
+      for (int& k : cluster.loops) k = inside[c][k];
+      verdict.clusters.push_back(cluster);
+    }
+    for (size_t k = 0; k < inside[c].size(); ++k) {
+      const int loop = inside[c][k];
+      verdict.cluster_of_loop[loop] = offset + v.cluster_of_loop[k];
+      DecisionReason reason = v.reasons[k];
+      if (reason.pose >= 0) reason.pose += span.first;
+      if (reason.by_cluster >= 0) reason.by_cluster += offset;
+      verdict.reasons[loop] = reason;
+    }
+    for (const int k : v.accepted) {
+      accepted_inside[c].push_back(inside[c][k]);
+      verdict.accepted.push_back(inside[c][k]);
+    }
+    for (const int k : v.rejected) verdict.rejected.push_back(inside[c][k]);
+  }
+
+  // Each pair, with both chains at their own maps.
+  std::vector<int> root(num_chains);
+  std::iota(root.begin(), root.end(), 0);
+  for (const auto& chains_and_candidates : between) {
+    const int a = chains_and_candidates.first.first;
+    const int b = chains_and_candidates.first.second;
+    ChainPair<Pose> pair;
+    pair.first = a;
+    pair.second = b;
+    pair.candidates = chains_and_candidates.second;
+    std::vector<int> both = accepted_inside[a];
+    both.insert(both.end(), accepted_inside[b].begin(),
+                accepted_inside[b].end());
+    PairJudge<Pose> judge(
+        graph, out.chains[a], out.chains[b], out.estimates, both, &pair,
+        options,
+        std::max(chain_stats[a].group_noise_scale,
+                 chain_stats[b].group_noise_scale),
+        std::max(chain_stats[a].noise_scale, chain_stats[b].noise_scale),
+        &verdict);
+    judge.Judge();
+    std::sort(pair.accepted.begin(), pair.accepted.end());
+    if (pair.joined) {
+      const int ra = MapOf(&root, a), rb = MapOf(&root, b);
+      root[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    out.pairs.push_back(std::move(pair));
+  }
+  std::sort(verdict.accepted.begin(), verdict.accepted.end());
+  std::sort(verdict.rejected.begin(), verdict.rejected.end());
+
+  // Rule 4: each map, in the frame of its lowest chain, minimized with its
+  // accepted loops.
+  for (int c = 0; c < num_chains; ++c) out.map_of_chain[c] = MapOf(&root, c);
+  for (int m = 0; m < num_chains; ++m) {
+    std::vector<ChainSpan> spans;
+    for (int c = 0; c < num_chains; ++c) {
+      if (out.map_of_chain[c] == m) spans.push_back(out.chains[c]);
+    }
+    if (spans.empty()) continue;
+    // Each chain's frame in the map's, through the joined pairs.
+    std::vector<bool> placed(num_chains, false);
+    std::vector<Pose> frame(num_chains);
+    placed[m] = true;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (const ChainPair<Pose>& p : out.pairs) {
+        if (!p.joined || placed[p.first] == placed[p.second]) continue;
+        if (placed[p.first]) {
+          frame[p.second] = frame[p.first] * p.relative;
+          placed[p.second] = true;
+        } else {
+          frame[p.first] = frame[p.second] * p.relative.inverse();
+          placed[p.first] = true;
+        }
+        grew = true;
+      }
+    }
+    std::vector<Pose> start = out.estimates;
+    for (int c = 0; c < num_chains; ++c) {
+      if (out.map_of_chain[c] != m) continue;
+      for (int p = out.chains[c].first; p <= out.chains[c].last; ++p) {
+        start[p] = frame[c] * out.estimates[p];
+      }
+    }
+    std::vector<int> loops;
+    for (const int k : verdict.accepted) {
+      if (out.map_of_chain[ChainHolding(out.chains, graph.loops()[k].from)] ==
+          m) {
+        loops.push_back(k);
+      }
+    }
+    const PoseGraph<Pose> joined = SubGraph(graph, spans, start, loops);
+    const PoseGraphSolver<Pose> solver(joined, 1);
+    std::vector<int> all(loops.size());
+    std::iota(all.begin(), all.end(), 0);
+    out.minimized.emplace_back();
+    const std::vector<Pose> map = solver.Optimize(
+        all, ConvergenceOptions{}, &out.minimized.back(), &joined.estimates());
+    const std::vector<int> poses = Poses(spans);
+    for (size_t k = 0; k < poses.size(); ++k) out.estimates[poses[k]] = map[k];
+  }
+
+  if (stats) {
+    *stats = MapVerifierStats();
+    int largest = 0;
+    for (int c = 0; c < num_chains; ++c) {
+      const MapVerifierStats& s = chain_stats[c];
+      stats->own_solves += s.own_solves;
+      stats->trials += s.trials;
+      stats->quick_accepts += s.quick_accepts;
+      stats->reversals += s.reversals;
+      stats->rejudged += s.rejudged;
+      stats->optimizations += s.optimizations;
+      stats->not_converged += s.not_converged;
+      if (out.chains[c].size() > out.chains[largest].size()) largest = c;
+    }
+    const MapVerifierStats& s = chain_stats[largest];
+    stats->noise_scale = s.noise_scale;
+    stats->group_noise_scale = s.group_noise_scale;
+    stats->noise_scale_source = s.noise_scale_source;
+    stats->a_posteriori_scale = s.a_posteriori_scale;
+  }
+  return out;
+}
+
+template ChainsVerdict<Pose2> VerifyChains(const PoseGraph<Pose2>&,
+                                           const RrrOptions&,
+                                           MapVerifierStats*);
+template ChainsVerdict<Pose3> VerifyChains(const PoseGraph<Pose3>&,
+                                           const RrrOptions&,
+                                           MapVerifierStats*);
+
+}  // namespace rrr

@@ -1,0 +1,182 @@
+#include "rrr/rrr/chains/verify_chains.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/sim/false_loops.h"
+#include "rrr/sim/simulated_world.h"
+
+namespace rrr {
+namespace {
+
+// Appends `world` to `graph` as a new chain: its poses (ids after the
+// graph's), its odometry and its loops, the estimates moved by `moved` (a
+// session whose odometry starts elsewhere). Returns the first pose's index.
+int AppendChain(const SimulatedWorld& world, const Pose2& moved,
+                PoseGraph<Pose2>* graph) {
+  const int first = graph->num_poses();
+  const PoseId id0 = first == 0 ? 0 : graph->ids().back() + 2;
+  for (int k = 0; k < world.graph.num_poses(); ++k) {
+    graph->AddPose(id0 + k, moved * world.graph.estimates()[k]);
+  }
+  for (auto e : world.graph.odometry()) {
+    e.from += first;
+    e.to += first;
+    graph->AddEdge(e);
+  }
+  for (auto e : world.graph.loops()) {
+    e.from += first;
+    e.to += first;
+    graph->AddEdge(e);
+  }
+  return first;
+}
+
+// One world's graph cut into two sessions at pose `cut`: the odometry edge
+// into it removed, the second session's estimates restarted elsewhere.
+// Loops across the cut become loops between the chains.
+PoseGraph<Pose2> CutInTwo(const PoseGraph<Pose2>& graph, int cut) {
+  PoseGraph<Pose2> out;
+  const Pose2 restart =
+      Pose2(40.0, -25.0, 1.2) * graph.estimates()[cut].inverse();
+  for (int k = 0; k < graph.num_poses(); ++k) {
+    const Pose2& x = graph.estimates()[k];
+    out.AddPose(graph.ids()[k] + (k >= cut ? 1 : 0),
+                k >= cut ? restart * x : x);
+  }
+  for (const auto& e : graph.odometry()) {
+    if (std::max(e.from, e.to) != cut) out.AddEdge(e);
+  }
+  for (const auto& e : graph.loops()) out.AddEdge(e);
+  return out;
+}
+
+WorldOptions Grid(int poses, std::uint64_t seed) {
+  WorldOptions options;
+  options.poses = poses;
+  options.false_loops = 0;
+  options.seed = seed;
+  return options;
+}
+
+RrrOptions Options() {
+  RrrOptions options;
+  options.cluster_window = 10;
+  return options;
+}
+
+TEST(ChainSpans, AGapStartsAChain) {
+  const SimulatedWorld world = SimulateWorld(Grid(400, 1));
+  const PoseGraph<Pose2> two = CutInTwo(world.graph, 150);
+  const std::vector<ChainSpan> spans = ChainSpansOf(two);
+  ASSERT_EQ(spans.size(), 2u);
+  EXPECT_EQ(spans[0].first, 0);
+  EXPECT_EQ(spans[0].last, 149);
+  EXPECT_EQ(spans[1].first, 150);
+  EXPECT_EQ(spans[1].last, 399);
+  EXPECT_EQ(ChainHolding(spans, 149), 0);
+  EXPECT_EQ(ChainHolding(spans, 150), 1);
+}
+
+TEST(VerifyChains, TwoSessionsOfOneWorldAreJoinedByTheirLoops) {
+  const SimulatedWorld world = SimulateWorld(Grid(1200, 3));
+  const int cut = 600;
+  const PoseGraph<Pose2> two = CutInTwo(world.graph, cut);
+  int across = 0;
+  for (const auto& e : two.loops()) {
+    across += (e.from < cut) != (e.to < cut);
+  }
+  ASSERT_GT(across, 10);
+  const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
+  ASSERT_EQ(v.chains.size(), 2u);
+  ASSERT_EQ(v.pairs.size(), 1u);
+  const ChainPair<Pose2>& pair = v.pairs[0];
+  EXPECT_TRUE(pair.joined);
+  EXPECT_EQ(static_cast<int>(pair.candidates.size()), across);
+  // Every loop is true: (nearly) all between the chains are kept.
+  EXPECT_GE(pair.accepted.size(), 0.9 * across);
+  EXPECT_EQ(v.map_of_chain, (std::vector<int>{0, 0}));
+  // The joined map puts the second session where the removed odometry step
+  // says, relative to the first session's last pose.
+  const Pose2 step = v.estimates[cut - 1].between(v.estimates[cut]);
+  const Pose2 truth = world.truth[cut - 1].between(world.truth[cut]);
+  EXPECT_LT((step.translation() - truth.translation()).norm(), 0.3);
+  // Loops inside each chain are judged as the chain alone would judge them.
+  for (const int k : v.verdict.accepted) {
+    const auto& e = two.loops()[k];
+    if ((e.from < cut) != (e.to < cut)) {
+      const DecisionTest test = v.verdict.reasons[k].test;
+      EXPECT_TRUE(test == DecisionTest::kJoin || test == DecisionTest::kMap);
+    }
+  }
+}
+
+TEST(VerifyChains, RobotsThatNeverMeetAreNeverJoinedByFalseLoops) {
+  // Two robots in two cities; the recognisers report 300 false loops, about
+  // half of them between the robots, some in groups that agree with
+  // themselves.
+  PoseGraph<Pose2> fleet;
+  const SimulatedWorld a = SimulateWorld(Grid(600, 5));
+  const SimulatedWorld b = SimulateWorld(Grid(600, 6));
+  AppendChain(a, Pose2(), &fleet);
+  AppendChain(b, Pose2(500.0, 0.0, 0.3), &fleet);
+  std::set<int> false_loops;
+  for (const int group : {1, 5}) {
+    FalseLoopOptions spoil;
+    spoil.count = 150;
+    spoil.group = group;
+    spoil.seed = 7 + group;
+    for (const int k : AddFalseLoops(&fleet, spoil)) false_loops.insert(k);
+  }
+  const ChainsVerdict<Pose2> v = VerifyChains(fleet, Options());
+  ASSERT_EQ(v.pairs.size(), 1u);
+  EXPECT_FALSE(v.pairs[0].joined);
+  EXPECT_TRUE(v.pairs[0].accepted.empty());
+  EXPECT_EQ(v.map_of_chain, (std::vector<int>{0, 1}));
+  int apart = 0;
+  for (const int k : v.pairs[0].candidates) {
+    apart += v.verdict.reasons[k].test == DecisionTest::kApart;
+  }
+  EXPECT_GT(apart, 0);
+  // Each robot's own map stays where its odometry and its loops put it.
+  EXPECT_NEAR(v.estimates[600].translation().x(),
+              fleet.estimates()[600].translation().x(), 20.0);
+}
+
+TEST(VerifyChains, OneFalseClusterCannotJoinTwoChainsAlone) {
+  // Two robots that never meet, and one group of six false loops between
+  // them that agree with each other exactly: consistent, but alone.
+  PoseGraph<Pose2> fleet;
+  AppendChain(SimulateWorld(Grid(400, 8)), Pose2(), &fleet);
+  AppendChain(SimulateWorld(Grid(400, 9)), Pose2(0.0, 300.0, 0.0), &fleet);
+  const Pose2 wrong(1.0, 0.5, 0.1);
+  for (int k = 0; k < 6; ++k) {
+    Constraint<Pose2> e;
+    e.from = 100 + k;
+    e.to = 600 + k;
+    e.measurement =
+        fleet.estimates()[e.from].between(wrong * fleet.estimates()[e.to]);
+    fleet.AddEdge(e);
+  }
+  const ChainsVerdict<Pose2> v = VerifyChains(fleet, Options());
+  ASSERT_EQ(v.pairs.size(), 1u);
+  EXPECT_FALSE(v.pairs[0].joined);
+  EXPECT_TRUE(v.pairs[0].accepted.empty());
+}
+
+TEST(VerifyChains, OneChainIsJudgedAsTheMapProcedureJudgesIt) {
+  WorldOptions world_options = Grid(500, 11);
+  world_options.false_loops = 20;
+  const SimulatedWorld world = SimulateWorld(world_options);
+  const ChainsVerdict<Pose2> v = VerifyChains(world.graph, Options());
+  EXPECT_TRUE(v.pairs.empty());
+  EXPECT_EQ(v.verdict.accepted, VerifyWithMap(world.graph, Options()).accepted);
+}
+
+}  // namespace
+}  // namespace rrr
