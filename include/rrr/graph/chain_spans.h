@@ -26,7 +26,8 @@ std::vector<ChainSpan> ChainSpansOf(const PoseGraph<Pose>& graph);
 // The index of the chain of `spans` that holds `pose`.
 int ChainHolding(const std::vector<ChainSpan>& spans, int pose);
 
-// The graph of the chains `spans` (ascending, of `graph`): their poses with
+// The graph of the chains `spans` (ascending, of `graph`; a span may be part
+// of a chain): their poses with
 // the estimates `estimates` (of every pose of `graph`), their odometry, and
 // the loops `loops` (indices into graph.loops(), every end in those chains)
 // in that order, so that loop k of the result is graph.loops()[loops[k]].

@@ -50,7 +50,7 @@ PoseGraph<Pose> SubGraph(const PoseGraph<Pose>& graph,
     sub.AddEdge(e);
   };
   for (const auto& e : graph.odometry()) {
-    if (index[e.from] >= 0) add(e);
+    if (index[e.from] >= 0 && index[e.to] >= 0) add(e);
   }
   for (const int k : loops) add(graph.loops()[k]);
   return sub;
