@@ -1,6 +1,7 @@
 #include "rrr/rrr/chains/verify_chains.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <utility>
@@ -27,7 +28,7 @@ class PairJudge {
   // many and takes the error reached, which bounds the minimum from above:
   // as a trial of the map procedure held to its region, a pass is final and
   // a link that fails may be refused that a longer trial would keep.
-  static constexpr int kMostTrialIterations = 10;
+  static constexpr int kMostTrialIterations = 5;
 
   // `verdict` receives the candidates' decisions, reasons and clusters.
   PairJudge(const PoseGraph<Pose>& graph, const ChainSpan& a,
@@ -257,47 +258,57 @@ class PairJudge {
     *joined = std::move(x);
   }
 
-  // Rule 3 for the clusters `rest` (their open links), the best fitting
-  // first: each is accepted if the error its links bring to the joined map
-  // `*joined` is under their gate. Their error at its estimate bounds it;
-  // only above that gate is the map minimized with them (and moved there if
-  // they pass).
+  // Rule 3 for the clusters `rest` (their open links). Every cluster whose
+  // links' error at the joined map's estimate `*joined` is under their gate
+  // is accepted (that error bounds what they bring) and the map minimized
+  // with them, until none fits; then the best fitting one is tried (the map
+  // minimized with it: accepted if what it brings is under the gate), and
+  // so on until every cluster is decided.
   void JudgeAgainstJoined(const std::vector<std::vector<int>>& rest,
                           std::vector<Pose>* joined) {
-    std::vector<std::pair<double, size_t>> order;
-    for (size_t c = 0; c < rest.size(); ++c) {
-      const DecisionReason r = FitReason(rest[c], *joined);
-      order.emplace_back(r.statistic / r.gate, c);
-    }
-    std::sort(order.begin(), order.end());
-    bool minimized = true;  // brought_ is the minimum with in_map_
-    for (const auto& [unused, c] : order) {
-      const std::vector<int>& links = rest[c];
-      DecisionReason reason = FitReason(links, *joined);
-      if (!(reason.statistic < reason.gate) && !minimized) {
-        // What the links accepted at an estimate bring is known only after
-        // minimizing with them.
-        *joined = Minimize(in_map_, &brought_, joined);
-        minimized = true;
-        reason = FitReason(links, *joined);
-      }
-      bool accept = reason.statistic < reason.gate;
-      if (accept) {
-        minimized = false;
-      } else {
-        double with;
-        std::vector<Pose> x = Minimize(Concat(in_map_, links), &with, joined,
-                                       {kMostTrialIterations, 1e-9});
-        reason.statistic = with - brought_;
-        accept = reason.statistic < reason.gate;
-        if (accept) {
-          *joined = std::move(x);
-          brought_ = with;
+    std::vector<bool> open(rest.size(), true);
+    for (size_t left = rest.size(); left > 0;) {
+      bool fitted = false;
+      double best = std::numeric_limits<double>::infinity();
+      size_t next = 0;
+      for (size_t c = 0; c < rest.size(); ++c) {
+        if (!open[c]) continue;
+        const DecisionReason reason = FitReason(rest[c], *joined);
+        if (reason.statistic < reason.gate) {
+          Accept(rest[c], reason);
+          open[c] = false;
+          --left;
+          fitted = true;
+        } else if (reason.statistic / reason.gate < best) {
+          best = reason.statistic / reason.gate;
+          next = c;
         }
       }
-      for (const int k : links) Decide(k, accept, reason);
-      if (accept) in_map_ = Concat(in_map_, links);
+      if (fitted) {
+        *joined = Minimize(in_map_, &brought_, joined);
+        continue;
+      }
+      if (left == 0) break;
+      DecisionReason reason = FitReason(rest[next], *joined);
+      double with;
+      std::vector<Pose> x = Minimize(Concat(in_map_, rest[next]), &with, joined,
+                                     {kMostTrialIterations, 1e-9});
+      reason.statistic = with - brought_;
+      open[next] = false;
+      --left;
+      if (reason.statistic < reason.gate) {
+        Accept(rest[next], reason);
+        *joined = std::move(x);
+        brought_ = with;
+      } else {
+        for (const int k : rest[next]) Decide(k, false, reason);
+      }
     }
+  }
+
+  void Accept(const std::vector<int>& links, const DecisionReason& reason) {
+    for (const int k : links) Decide(k, true, reason);
+    in_map_ = Concat(in_map_, links);
   }
 
   // The error of `links` at `x` against their gate (one link: map scale;

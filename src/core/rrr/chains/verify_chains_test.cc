@@ -169,6 +169,37 @@ TEST(VerifyChains, OneFalseClusterCannotJoinTwoChainsAlone) {
   EXPECT_TRUE(v.pairs[0].accepted.empty());
 }
 
+TEST(VerifyChains, RobotsThatMeetOnceAmongFalseLoopsAreLeftApartAndSaySo) {
+  // One true revisit between two robots (eight links that agree with where
+  // the robots really were) among 100 random false loops: one cluster is
+  // not evidence enough, so the robots stay apart, and every loop between
+  // them says why.
+  PoseGraph<Pose2> fleet;
+  const SimulatedWorld a = SimulateWorld(Grid(400, 12));
+  const SimulatedWorld b = SimulateWorld(Grid(400, 13));
+  AppendChain(a, Pose2(), &fleet);
+  const Pose2 where(3.0, 1.0, 0.2);  // b's frame in a's
+  AppendChain(b, where, &fleet);
+  for (int k = 0; k < 8; ++k) {
+    Constraint<Pose2> e;
+    e.from = 200 + k;
+    e.to = 400 + 100 + k;
+    e.measurement = a.truth[200 + k].between(where * b.truth[100 + k]);
+    fleet.AddEdge(e);
+  }
+  FalseLoopOptions spoil;
+  spoil.count = 100;
+  AddFalseLoops(&fleet, spoil);
+  const ChainsVerdict<Pose2> v = VerifyChains(fleet, Options());
+  ASSERT_EQ(v.pairs.size(), 1u);
+  EXPECT_FALSE(v.pairs[0].joined);
+  for (const int k : v.pairs[0].candidates) {
+    EXPECT_NE(std::find(v.verdict.rejected.begin(), v.verdict.rejected.end(),
+                        k),
+              v.verdict.rejected.end());
+  }
+}
+
 TEST(VerifyChains, OneChainIsJudgedAsTheMapProcedureJudgesIt) {
   WorldOptions world_options = Grid(500, 11);
   world_options.false_loops = 20;
