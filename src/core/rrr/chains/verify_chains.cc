@@ -11,6 +11,7 @@
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/clustering.h"
 #include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/solver/edge_error.h"
 #include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
@@ -237,9 +238,7 @@ class PairJudge {
   void TryJoin(const PairCluster& first, const PairCluster& second,
                const std::vector<Pose>& one, std::vector<Pose>* joined) {
     const int e = Pose::kDof;
-    const SubsetErrors fit = solver_.Evaluate(Links(second.links), one);
-    const double fit_error =
-        std::accumulate(fit.loop_chi2.begin(), fit.loop_chi2.end(), 0.0);
+    const double fit_error = ErrorAt(second.links, one);
     const int n2 = static_cast<int>(second.links.size());
     if (!(fit_error < group_scale_ * chi2_(e * n2))) return;
     const std::vector<int> both = Concat(first.links, second.links);
@@ -313,15 +312,23 @@ class PairJudge {
 
   // The error of `links` at `x` against their gate (one link: map scale;
   // several: group scale).
+  // The error of `links` at `x`.
+  double ErrorAt(const std::vector<int>& links,
+                 const std::vector<Pose>& x) const {
+    double sum = 0.0;
+    for (const int k : links) {
+      sum += EdgeChi2(pair_graph_.loops()[num_inside_ + k], x);
+    }
+    return sum;
+  }
+
   DecisionReason FitReason(const std::vector<int>& links,
                            const std::vector<Pose>& x) const {
     const int n = static_cast<int>(links.size());
     const int dof = Pose::kDof * n;
     const double scale = n == 1 ? map_scale_ : group_scale_;
-    const SubsetErrors fit = solver_.Evaluate(Links(links), x);
-    return {DecisionTest::kMap,
-            std::accumulate(fit.loop_chi2.begin(), fit.loop_chi2.end(), 0.0),
-            scale * chi2_(dof), scale, dof};
+    return {DecisionTest::kMap, ErrorAt(links, x), scale * chi2_(dof), scale,
+            dof};
   }
 
   bool Decided(int k) const { return decided_.count(k) > 0; }
