@@ -63,6 +63,9 @@ struct ChainsVerdict {
 //     both together pass the gate of their links (e·(n1+n2−1) dof). Clusters
 //     are tried largest first. One false cluster never suffices; two false
 //     clusters must agree on the same relative pose.
+//     Pairs are judged in order of their candidates, most first; a pair
+//     whose chains are in one map already (through others) is judged by
+//     rule 3 against that map, every chain of it in its frame.
 //  3. Once joined, the other clusters between the two chains are judged
 //     against the joined map, largest first: accepted when the error their
 //     links bring is under the gate of their dof (their error at the map's

@@ -31,20 +31,24 @@ class PairJudge {
   // a link that fails may be refused that a longer trial would keep.
   static constexpr int kMostTrialIterations = 5;
 
-  // `verdict` receives the candidates' decisions, reasons and clusters.
-  PairJudge(const PoseGraph<Pose>& graph, const ChainSpan& a,
-            const ChainSpan& b, const std::vector<Pose>& estimates,
-            const std::vector<int>& accepted_inside, ChainPair<Pose>* pair,
+  // Judges the candidates of `pair` over the chains `spans` (ascending) at
+  // `estimates` with their accepted loops `accepted`: the pair's two chains,
+  // each at its own map, or, when they are in one map already, every chain
+  // of that map placed in its frame. `verdict` receives the candidates'
+  // decisions, reasons and clusters.
+  PairJudge(const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans,
+            const std::vector<Pose>& estimates,
+            const std::vector<int>& accepted, ChainPair<Pose>* pair,
             const RrrOptions& options, double group_scale, double map_scale,
             Verdict* verdict)
       : graph_(graph),
         estimates_(estimates),
-        pair_graph_(SubGraph(graph, {a, b}, estimates,
-                             Concat(accepted_inside, pair->candidates))),
+        pair_graph_(SubGraph(graph, spans, estimates,
+                             Concat(accepted, pair->candidates))),
         solver_(pair_graph_, 1),
-        first_of_b_(a.size()),
-        b_first_(b.first),
-        num_inside_(static_cast<int>(accepted_inside.size())),
+        first_of_b_(spans.front().size()),
+        b_first_(spans.back().first),
+        num_inside_(static_cast<int>(accepted.size())),
         inside_(Range(0, num_inside_)),
         apart_error_(
             solver_.Evaluate(inside_, pair_graph_.estimates()).total_chi2),
@@ -72,7 +76,9 @@ class PairJudge {
     }
   }
 
-  void Judge() {
+  // Judges the pair; `one_map`: its chains are joined through others
+  // already, and their map is the joined map of rule 3.
+  void Judge(bool one_map) {
     // Rule 1: each cluster's own consistency.
     std::vector<const PairCluster*> agreeing;
     for (PairCluster& c : clusters_) {
@@ -84,6 +90,10 @@ class PairJudge {
                      });
     // Rule 2: two clusters that agree join the chains.
     std::vector<Pose> joined;
+    if (one_map) {
+      pair_->joined = true;
+      joined = Minimize({}, &brought_, &pair_graph_.estimates());
+    }
     for (size_t i = 0; i < agreeing.size() && !pair_->joined; ++i) {
       const std::vector<Pose> one = Minimize(agreeing[i]->links);
       for (size_t j = 0; j < agreeing.size() && !pair_->joined; ++j) {
@@ -108,8 +118,12 @@ class PairJudge {
       return;
     }
     JudgeAgainstJoined(rest, &joined);
-    pair_->relative =
-        joined[first_of_b_] * pair_graph_.estimates()[first_of_b_].inverse();
+    // Joined through others, the pair's own loops join it if any is kept.
+    if (one_map) pair_->joined = !pair_->accepted.empty();
+    if (!one_map) {
+      pair_->relative =
+          joined[first_of_b_] * pair_graph_.estimates()[first_of_b_].inverse();
+    }
   }
 
  private:
@@ -360,6 +374,31 @@ class PairJudge {
   double brought_ = 0.0;     // the error they bring to the two maps
 };
 
+// Each chain's frame in the frame of chain `root` through the joined pairs
+// (x_root_frame = frames[c] · x_c_frame); the identity where none leads.
+template <class Pose>
+std::vector<Pose> FramesIn(const std::vector<ChainPair<Pose>>& pairs,
+                           int num_chains, int root) {
+  std::vector<bool> placed(num_chains, false);
+  std::vector<Pose> frame(num_chains);
+  placed[root] = true;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const ChainPair<Pose>& p : pairs) {
+      if (!p.joined || placed[p.first] == placed[p.second]) continue;
+      if (placed[p.first]) {
+        frame[p.second] = frame[p.first] * p.relative;
+        placed[p.second] = true;
+      } else {
+        frame[p.first] = frame[p.second] * p.relative.inverse();
+        placed[p.first] = true;
+      }
+      grew = true;
+    }
+  }
+  return frame;
+}
+
 // Union–find over chains: the lowest index of each set is its root.
 int MapOf(std::vector<int>* root, int c) {
   while ((*root)[c] != c) c = (*root)[c] = (*root)[(*root)[c]];
@@ -433,24 +472,54 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
   // Each pair, with both chains at their own maps.
   std::vector<int> root(num_chains);
   std::iota(root.begin(), root.end(), 0);
-  for (const auto& chains_and_candidates : between) {
+  // The pairs with the most candidates first: a pair with few may then be
+  // joined through others.
+  std::vector<std::pair<std::pair<int, int>, std::vector<int>>> ordered(
+      between.begin(), between.end());
+  std::stable_sort(ordered.begin(), ordered.end(),
+                   [](const auto& x, const auto& y) {
+                     return x.second.size() > y.second.size();
+                   });
+  for (const auto& chains_and_candidates : ordered) {
     const int a = chains_and_candidates.first.first;
     const int b = chains_and_candidates.first.second;
     ChainPair<Pose> pair;
     pair.first = a;
     pair.second = b;
     pair.candidates = chains_and_candidates.second;
-    std::vector<int> both = accepted_inside[a];
-    both.insert(both.end(), accepted_inside[b].begin(),
-                accepted_inside[b].end());
+    // Two chains apart: each at its own map, with its accepted loops; in one
+    // map already: every chain of it in its frame, with every accepted loop.
+    const int map = MapOf(&root, a);
+    const bool one_map = map == MapOf(&root, b);
+    const std::vector<Pose> frames = FramesIn(out.pairs, num_chains, map);
+    std::vector<ChainSpan> spans;
+    std::vector<Pose> placed = out.estimates;
+    std::vector<int> accepted;
+    for (int c = 0; c < num_chains; ++c) {
+      if (one_map ? MapOf(&root, c) != map : c != a && c != b) continue;
+      spans.push_back(out.chains[c]);
+      for (int p = out.chains[c].first; one_map && p <= out.chains[c].last;
+           ++p) {
+        placed[p] = frames[c] * out.estimates[p];
+      }
+    }
+    for (const int k : verdict.accepted) {
+      const auto& e = graph.loops()[k];
+      const int from = ChainHolding(out.chains, e.from);
+      const int to = ChainHolding(out.chains, e.to);
+      const auto in = [&](int c) {
+        return one_map ? MapOf(&root, c) == map : c == a || c == b;
+      };
+      if (in(from) && in(to) && (one_map || from == to)) accepted.push_back(k);
+    }
     PairJudge<Pose> judge(
-        graph, out.chains[a], out.chains[b], out.estimates, both, &pair,
-        options,
+        graph, spans, placed, accepted, &pair, options,
         std::max(chain_stats[a].group_noise_scale,
                  chain_stats[b].group_noise_scale),
         std::max(chain_stats[a].noise_scale, chain_stats[b].noise_scale),
         &verdict);
-    judge.Judge();
+    judge.Judge(one_map);
+    if (one_map) pair.relative = frames[a].inverse() * frames[b];
     std::sort(pair.accepted.begin(), pair.accepted.end());
     if (pair.joined) {
       const int ra = MapOf(&root, a), rb = MapOf(&root, b);
@@ -460,6 +529,11 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
   }
   std::sort(verdict.accepted.begin(), verdict.accepted.end());
   std::sort(verdict.rejected.begin(), verdict.rejected.end());
+  std::sort(out.pairs.begin(), out.pairs.end(),
+            [](const ChainPair<Pose>& x, const ChainPair<Pose>& y) {
+              return std::make_pair(x.first, x.second) <
+                     std::make_pair(y.first, y.second);
+            });
 
   // Rule 4: each map, in the frame of its lowest chain, minimized with its
   // accepted loops.
@@ -470,24 +544,7 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
       if (out.map_of_chain[c] == m) spans.push_back(out.chains[c]);
     }
     if (spans.empty()) continue;
-    // Each chain's frame in the map's, through the joined pairs.
-    std::vector<bool> placed(num_chains, false);
-    std::vector<Pose> frame(num_chains);
-    placed[m] = true;
-    for (bool grew = true; grew;) {
-      grew = false;
-      for (const ChainPair<Pose>& p : out.pairs) {
-        if (!p.joined || placed[p.first] == placed[p.second]) continue;
-        if (placed[p.first]) {
-          frame[p.second] = frame[p.first] * p.relative;
-          placed[p.second] = true;
-        } else {
-          frame[p.first] = frame[p.second] * p.relative.inverse();
-          placed[p.first] = true;
-        }
-        grew = true;
-      }
-    }
+    const std::vector<Pose> frame = FramesIn(out.pairs, num_chains, m);
     std::vector<Pose> start = out.estimates;
     for (int c = 0; c < num_chains; ++c) {
       if (out.map_of_chain[c] != m) continue;
