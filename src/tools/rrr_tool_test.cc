@@ -80,6 +80,44 @@ TEST(RrrTool, BrokenOdometryChainIsNamed) {
               HasSubstr(gap + ": pose 2 is not reached from the first pose"));
 }
 
+TEST(RrrTool, RobotsKeyedAsSymbolsAreChainsNamedByTheirLetters) {
+  // Two robots, 'a' and 'b', keyed as GTSAM symbols, and one loop between
+  // them: two chains, named, left apart (one loop cannot join them), ids
+  // written back as read.
+  const std::string fleet = Tmp("fleet.g2o"), out = Tmp("fleet_out.g2o"),
+                    report = Tmp("fleet.json");
+  const long long a = static_cast<long long>('a') << 56;
+  const long long b = static_cast<long long>('b') << 56;
+  {
+    std::ofstream f(fleet);
+    for (const long long robot : {a, b}) {
+      for (int k = 0; k < 5; ++k) {
+        f << "VERTEX_SE2 " << robot + k << " " << k << " 0 0\n";
+      }
+      for (int k = 0; k < 4; ++k) {
+        f << "EDGE_SE2 " << robot + k << " " << robot + k + 1
+          << " 1 0 0 1 0 0 1 0 1\n";
+      }
+    }
+    f << "EDGE_SE2 " << a + 1 << " " << b + 1 << " 0 3 0 1 0 0 1 0 1\n";
+  }
+  const Result r =
+      Rrr("verify " + fleet + " -w 10 -o " + out + " -r " + report);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json j = ReadJson(report);
+  ASSERT_EQ(j["chains"].size(), 2u);
+  EXPECT_EQ(j["chains"][0]["robot"], "a");
+  EXPECT_EQ(j["chains"][1]["robot"], "b");
+  EXPECT_EQ(j["chains"][1]["first_index"], 0);
+  ASSERT_EQ(j["chain_pairs"].size(), 1u);
+  EXPECT_FALSE(j["chain_pairs"][0]["joined"].get<bool>());
+  EXPECT_EQ(j["decisions"][0]["test"], "apart");
+  std::ifstream written(out);
+  std::string first;
+  written >> first >> first;
+  EXPECT_EQ(first, std::to_string(a));
+}
+
 TEST(RrrTool, OptimizeJoinsTwoChainsByTheirLoops) {
   // Two sessions: poses 0-1 and 2-3 (the second's odometry restarted away
   // from the first), joined only by the loop 0 -> 2 (2 m ahead).

@@ -11,6 +11,7 @@
 #include "output_paths.h"
 #include "progress_bar.h"
 #include "rrr/io/input_error.h"
+#include "rrr/io/symbol_key.h"
 #include "rrr/robust/dcs.h"
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
@@ -87,10 +88,15 @@ nlohmann::json ChainsJson(const PoseGraph<Pose>& graph,
   nlohmann::json list = nlohmann::json::array();
   for (size_t c = 0; c < chains.chains.size(); ++c) {
     const ChainSpan& span = chains.chains[c];
-    list.push_back({{"first", ids[span.first]},
-                    {"last", ids[span.last]},
-                    {"poses", span.size()},
-                    {"map", chains.map_of_chain[c]}});
+    nlohmann::json chain = {{"first", ids[span.first]},
+                            {"last", ids[span.last]},
+                            {"poses", span.size()},
+                            {"map", chains.map_of_chain[c]}};
+    if (const auto symbol = AsSymbol(ids[span.first])) {
+      chain["robot"] = std::string(1, symbol->robot);
+      chain["first_index"] = symbol->index;
+    }
+    list.push_back(std::move(chain));
   }
   nlohmann::json pairs = nlohmann::json::array();
   for (const ChainPair<Pose>& pair : chains.pairs) {
@@ -291,12 +297,16 @@ void AddVerifyCommand(CLI::App& app) {
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
     CheckOutputPaths({args->input}, {args->output, args->report});
-    // Only the map procedure judges a graph of several odometry chains.
-    const bool map =
-        args->method == "rrr" && args->options.procedure == Procedure::kMap;
-    const G2oFile file =
-        LoadGraph(args->input, args->strict,
-                  map ? GraphShape::kAnyChains : GraphShape::kOneChain);
+    // The map procedure judges a graph of several odometry chains, joined or
+    // not; DCS and GNC-TLS weigh every edge of a connected one; PCM and the
+    // published procedure need one chain.
+    GraphShape shape = GraphShape::kOneChain;
+    if (args->method == "rrr" && args->options.procedure == Procedure::kMap) {
+      shape = GraphShape::kAnyChains;
+    } else if (args->method == "dcs" || args->method == "gnc") {
+      shape = GraphShape::kConnected;
+    }
+    const G2oFile file = LoadGraph(args->input, args->strict, shape);
     const nlohmann::json notes = InputNotes(file);
     std::visit([&](const auto& g) { Verify(g, notes, *args); }, file.graph);
   });
