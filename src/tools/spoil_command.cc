@@ -26,7 +26,8 @@ std::vector<Pose> ReferencePoses(const PoseGraph<Pose>& graph,
     PoseGraphSolver<Pose> solver(graph, 1);
     return solver.Optimize(AllLoops(graph), {});
   }
-  const AnyPoseGraph loaded = LoadGraph(args.reference).graph;
+  const AnyPoseGraph loaded =
+      LoadGraph(args.reference, false, GraphShape::kAnyChains).graph;
   const auto* reference = std::get_if<PoseGraph<Pose>>(&loaded);
   if (!reference) {
     throw InputError(args.reference, 0,
@@ -105,6 +106,9 @@ void AddSpoilCommand(CLI::App& app) {
   cmd->add_option("-g,--group", args->options.group,
                   "groups of G consecutive false loops (i+k, j+k)")
       ->capture_default_str();
+  cmd->add_flag("--between-chains", args->options.between_chains,
+                "every false loop between two odometry chains (robots or "
+                "sessions: a gap in the odometry starts a chain)");
   cmd->add_option("-s,--seed", args->options.seed, "random seed")->required();
   cmd->add_option("-o,--output", args->output, "spoiled g2o output")
       ->required();
@@ -118,7 +122,12 @@ void AddSpoilCommand(CLI::App& app) {
   cmd->callback([args] {
     CheckOutputPaths({args->input, args->reference},
                      {args->output, args->truth});
-    AnyPoseGraph graph = LoadGraph(args->input).graph;
+    // Several chains are spoiled as one; the optimum needs them connected.
+    AnyPoseGraph graph =
+        LoadGraph(args->input, false,
+                  args->reference.empty() ? GraphShape::kConnected
+                                          : GraphShape::kAnyChains)
+            .graph;
     std::visit([&](auto& g) { Spoil(std::move(g), *args); }, graph);
   });
 }

@@ -27,6 +27,9 @@ struct FalseLoopOptions {
   // Groups of `group` consecutive false loops (i+k, j+k), k = 0..group-1,
   // sharing one drawn measurement, which look like a real revisit.
   int group = 1;
+  // Between robots or sessions: both ends of every loop (and of its group's
+  // links) in different odometry chains (ChainSpansOf); the graph needs two.
+  bool between_chains = false;
   std::uint64_t seed = 1;
 
   // Empty if usable for a graph of `num_poses` poses, else the problem.

@@ -11,6 +11,7 @@
 #include "rrr/eval/ground_truth.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/chain_spans.h"
 
 namespace rrr {
 namespace {
@@ -116,6 +117,19 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
                                 std::to_string(reference->size()) +
                                 " poses, the graph " + std::to_string(n));
   }
+  const std::vector<ChainSpan> chains = ChainSpansOf(*graph);
+  if (options.between_chains && chains.size() < 2) {
+    throw std::invalid_argument(
+        "false loops between chains need a graph of two chains or more");
+  }
+  // Whether the links from (i, j) on stay each in one chain, and, between
+  // chains, join two.
+  const auto chains_fit = [&](int i, int j, int links) {
+    const int a = ChainHolding(chains, i), b = ChainHolding(chains, j);
+    return a == ChainHolding(chains, i + links - 1) &&
+           b == ChainHolding(chains, j + links - 1) &&
+           (!options.between_chains || a != b);
+  };
   int correct_draws = 0;
   const auto information = graph->loops().empty()
                                ? graph->odometry().at(0).information
@@ -157,6 +171,9 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
       continue;
     }
     if (!group_fits(i, j)) continue;
+    const int links =
+        std::min(options.group, options.count - static_cast<int>(added.size()));
+    if (!chains_fit(i, j, links)) continue;
     // One measurement for the whole group: its links agree with each other
     // like a real revisit's.
     const Pose* kind = nullptr;
@@ -165,8 +182,6 @@ std::vector<int> AddFalseLoops(PoseGraph<Pose>* graph,
             ? LookAlikeMeasurement(rng, options.look_alike_translation,
                                    options.look_alike_rotation, kind)
             : RandomMeasurement(rng, kind);
-    const int links =
-        std::min(options.group, options.count - static_cast<int>(added.size()));
     if (reference && AnyLinkCorrect(*reference, i, j, links, measurement)) {
       ++correct_draws;
       continue;

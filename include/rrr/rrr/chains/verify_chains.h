@@ -57,15 +57,17 @@ struct ChainsVerdict {
 //     maps, the chains' relative pose free: the error they bring, against
 //     the gate of e·(n−1) dof; the worst link goes while what it brings
 //     exceeds one link's gate).
-//  2. Two chains are joined only by two clusters that agree: the second's
-//     links fit the map that the first has joined (their error at its
-//     estimate under their gate, which bounds what they would bring), and
-//     both together pass the gate of their links (e·(n1+n2−1) dof). Clusters
-//     are tried largest first. One false cluster never suffices; two false
-//     clusters must agree on the same relative pose.
-//     Pairs are judged in order of their candidates, most first; a pair
-//     whose chains are in one map already (through others) is judged by
-//     rule 3 against that map, every chain of it in its frame.
+//  2. Two chains are joined only by two independent clusters that agree
+//     (more than a clustering window apart on one chain at least: a revisit
+//     the clustering split, or one false group, is one piece of evidence):
+//     the second's links fit the map that the first has joined (their error
+//     at its estimate under their gate, which bounds what they would bring),
+//     and both together pass the gate of their links (e·(n1+n2−1) dof).
+//     Clusters are tried largest first. One false cluster never suffices;
+//     two false clusters must agree on the same relative pose. Pairs are
+//     judged in order of their candidates, most first; a pair whose chains
+//     are in one map already (through others) is judged by rule 3 against
+//     that map, every chain of it in its frame.
 //  3. Once joined, the other clusters between the two chains are judged
 //     against the joined map, largest first: accepted when the error their
 //     links bring is under the gate of their dof (their error at the map's

@@ -1,6 +1,7 @@
 #include "rrr/rrr/chains/verify_chains.h"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -54,6 +55,7 @@ class PairJudge {
             solver_.Evaluate(inside_, pair_graph_.estimates()).total_chi2),
         pair_(pair),
         chi2_(options.alpha),
+        window_(options.cluster_window),
         group_scale_(group_scale),
         map_scale_(map_scale),
         verdict_(verdict) {
@@ -247,10 +249,39 @@ class PairJudge {
     return false;
   }
 
+  // Whether the links `x` and `y` are separate evidence: more than a
+  // clustering window apart on at least one of the chains (a revisit that
+  // the clustering split in two, or one false group, is one piece of
+  // evidence, however many clusters it makes).
+  bool Independent(const std::vector<int>& x, const std::vector<int>& y) const {
+    const auto ranges = [&](const std::vector<int>& links) {
+      std::array<PoseId, 4> r{std::numeric_limits<PoseId>::max(),
+                              std::numeric_limits<PoseId>::min(),
+                              std::numeric_limits<PoseId>::max(),
+                              std::numeric_limits<PoseId>::min()};
+      for (const int k : links) {
+        const auto& e = graph_.loops()[pair_->candidates[k]];
+        for (const int p : {e.from, e.to}) {
+          const int side = p < b_first_ ? 0 : 2;
+          r[side] = std::min(r[side], graph_.ids()[p]);
+          r[side + 1] = std::max(r[side + 1], graph_.ids()[p]);
+        }
+      }
+      return r;
+    };
+    const std::array<PoseId, 4> a = ranges(x), b = ranges(y);
+    for (const int side : {0, 2}) {
+      const PoseId gap = std::max(b[side] - a[side + 1], a[side] - b[side + 1]);
+      if (gap > window_) return true;
+    }
+    return false;
+  }
+
   // Rule 2 for `first` (minimized alone to `one`) and `second`: joins the
   // chains and sets `*joined` to the joined map if they agree.
   void TryJoin(const PairCluster& first, const PairCluster& second,
                const std::vector<Pose>& one, std::vector<Pose>* joined) {
+    if (!Independent(first.links, second.links)) return;
     const int e = Pose::kDof;
     const double fit_error = ErrorAt(second.links, one);
     const int n2 = static_cast<int>(second.links.size());
@@ -365,6 +396,7 @@ class PairJudge {
   const double apart_error_;  // both maps, no link between them
   ChainPair<Pose>* pair_;
   const ChiSquareQuantile chi2_;
+  const PoseId window_;
   const double group_scale_;
   const double map_scale_;
   Verdict* verdict_;
