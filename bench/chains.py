@@ -11,9 +11,12 @@ dataset without false loops (one rigid alignment for the whole map: chains
 left apart show as a large ATE), whether every pair of chains with true loops
 between them was joined, and the time against the uncut set's.
 
+With --between, the false loops are drawn between chains only (the dataset
+cut first, then rrr spoil --between-chains).
+
     bench/chains.py [--datasets city10000 manhattanOlson3500 sphere2500]
         [--chains 1 2 4] [--outliers 100 1000] [--kinds random grouped] [--seeds 1]
-        [--out bench/out/chains]
+        [--between] [--out bench/out/chains]
 """
 import argparse
 import json
@@ -99,6 +102,9 @@ def main():
     parser.add_argument("--group", type=int, default=10, help="group size of the grouped kind")
     parser.add_argument("--seeds", nargs="*", type=int, default=[1])
     parser.add_argument("--window", type=int, default=10)
+    parser.add_argument("--between", action="store_true",
+                        help="false loops only between chains: the dataset cut first, then rrr spoil "
+                             "--between-chains (the row of 1 chain: the uncut dataset with the same false loops)")
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "chains"))
     args = parser.parse_args()
     common.require_rrr()
@@ -108,37 +114,78 @@ def main():
     header = ("dataset", "kind", "false", "chains", "acc", "prec", "recall", "ATE", "joined", "sec", "× 1 chain")
     print(" ".join(f"{h:>10}" for h in header), flush=True)
     rows = []
-    for spoiled_set in common.spoiled_sets(args, out):
+
+    def judge(name, kind, outliers, seed, chains, folder, graph, firsts, false_list, optimum, single_seconds):
         false_pairs = set()
-        for line in open(spoiled_set["false_list"]):
+        for line in open(false_list):
             if line.strip() and not line.startswith("#"):
                 a, b = map(int, line.split()[:2])
                 false_pairs.add(tuple(sorted((a, b))))
-        single_seconds = None
-        for chains in sorted(args.chains):
-            folder = spoiled_set["folder"] / f"chains_{chains}"
-            folder.mkdir(exist_ok=True)
-            graph = folder / "cut.g2o"
-            firsts = cut(spoiled_set["spoiled"], graph, chains)
-            report, seconds, out_map = common.verify(graph, args.window, folder)
-            scores = common.evaluate(folder / "report.json", "--map", out_map, "--false-loops",
-                                     spoiled_set["false_list"], "--gt-g2o", spoiled_set["optimum"])
-            wanted = true_pairs(report, firsts, false_pairs)
-            joined = {tuple(p["chains"]) for p in report.get("chain_pairs", []) if p["joined"]}
-            wrong = joined - wanted
-            if chains == 1:
-                single_seconds = seconds
-            row = dict(dataset=spoiled_set["name"], kind=spoiled_set["kind"], outliers=spoiled_set["outliers"],
-                       seed=spoiled_set["seed"], chains=chains, accepted=len(report["accepted"]),
-                       precision=scores["precision"], recall=scores["recall"], ate=scores["ate_rmse"],
-                       pairs_to_join=len(wanted), joined=len(joined & wanted), wrongly_joined=len(wrong),
-                       seconds=seconds,
-                       ratio=seconds / single_seconds if single_seconds else None)
-            rows.append(row)
-            print(f"{row['dataset'][:10]:>10} {row['kind']:>10} {row['outliers']:>10} {chains:>10} "
-                  f"{row['accepted']:>10} {row['precision']:>10.4f} {row['recall']:>10.4f} {row['ate']:>10.3f} "
-                  f"{row['joined']:>4}/{row['pairs_to_join']:<2}{'!' * len(wrong):>4} {seconds:>10.2f} "
-                  f"{(row['ratio'] or 0):>10.2f}", flush=True)
+        report, seconds, out_map = common.verify(graph, args.window, folder)
+        scores = common.evaluate(folder / "report.json", "--map", out_map, "--false-loops",
+                                 false_list, "--gt-g2o", optimum)
+        wanted = true_pairs(report, firsts, false_pairs)
+        joined = {tuple(p["chains"]) for p in report.get("chain_pairs", []) if p["joined"]}
+        wrong = joined - wanted
+        row = dict(dataset=name, kind=kind, outliers=outliers, seed=seed, chains=chains,
+                   accepted=len(report["accepted"]), precision=scores["precision"], recall=scores["recall"],
+                   ate=scores["ate_rmse"], pairs_to_join=len(wanted), joined=len(joined & wanted),
+                   wrongly_joined=len(wrong), seconds=seconds,
+                   ratio=seconds / single_seconds if single_seconds else None)
+        rows.append(row)
+        print(f"{name[:10]:>10} {kind:>10} {outliers:>10} {chains:>10} "
+              f"{row['accepted']:>10} {row['precision']:>10.4f} {row['recall']:>10.4f} {row['ate']:>10.3f} "
+              f"{row['joined']:>4}/{row['pairs_to_join']:<2}{'!' * len(wrong):>4} {seconds:>10.2f} "
+              f"{(row['ratio'] or 0):>10.2f}", flush=True)
+        return seconds
+
+    if not args.between:
+        for spoiled_set in common.spoiled_sets(args, out):
+            single_seconds = None
+            for chains in sorted(args.chains):
+                folder = spoiled_set["folder"] / f"chains_{chains}"
+                folder.mkdir(exist_ok=True)
+                graph = folder / "cut.g2o"
+                firsts = cut(spoiled_set["spoiled"], graph, chains)
+                seconds = judge(spoiled_set["name"], spoiled_set["kind"], spoiled_set["outliers"],
+                                spoiled_set["seed"], chains, folder, graph, firsts, spoiled_set["false_list"],
+                                spoiled_set["optimum"], single_seconds)
+                if chains == 1:
+                    single_seconds = seconds
+    else:
+        data = common.datasets_dir() / "synthetic"
+        for name in args.datasets:
+            clean = data / f"{name}.g2o"
+            optimum = out / f"{name}_optimum.g2o"
+            if not optimum.exists():
+                common.run("optimize", clean, "--output", optimum)
+            for chains in sorted(c for c in args.chains if c >= 2):
+                for kind in args.kinds:
+                    for n in args.outliers:
+                        for seed in args.seeds:
+                            folder = out / f"{name}_between_{kind}_{n}_{seed}_chains_{chains}"
+                            folder.mkdir(exist_ok=True)
+                            cut_clean = folder / "cut_clean.g2o"
+                            firsts = cut(clean, cut_clean, chains)
+                            graph, false_list = folder / "cut.g2o", folder / "false.txt"
+                            extra = {"random": [], "local": ["--local"], "grouped": ["--group", args.group]}[kind]
+                            common.run("spoil", cut_clean, "--outliers", n, "--seed", seed, "--between-chains",
+                                       *extra, "--reference", optimum, "--output", graph, "--truth", false_list)
+                            # The same false loops on the uncut graph: the time of one chain.
+                            _, false_lines = common.loop_lines(graph)
+                            uncut = folder / "uncut.g2o"
+                            with open(uncut, "w") as f:
+                                f.writelines(open(clean).readlines())
+                                f.writelines(line for (i, j), line in false_lines
+                                             if tuple(sorted((i, j))) in {
+                                                 tuple(sorted(map(int, l.split()[:2])))
+                                                 for l in open(false_list) if l.strip() and not l.startswith("#")})
+                            single = folder / "single"
+                            single.mkdir(exist_ok=True)
+                            single_seconds = judge(name, f"{kind} between", n, seed, 1, single, uncut, [0],
+                                                   false_list, optimum, None)
+                            judge(name, f"{kind} between", n, seed, chains, folder, graph, firsts, false_list,
+                                  optimum, single_seconds)
     with open(out / "results.json", "w") as f:
         json.dump(rows, f, indent=1)
     with open(out / "table.md", "w") as f:
