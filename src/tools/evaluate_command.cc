@@ -1,7 +1,9 @@
 // rrr evaluate: precision, recall and ATE of a verification against truth.
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -29,16 +31,21 @@ struct EvaluateArgs {
 
 using Positions = std::map<PoseId, Eigen::VectorXd>;
 
-// Candidates of the report, each with whether it was accepted.
-std::vector<std::pair<LoopKey, bool>> ReadDecisions(const std::string& path) {
+// The JSON report of rrr verify at `path`.
+nlohmann::json ReadReport(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "cannot open file");
-  nlohmann::json report;
   try {
-    report = nlohmann::json::parse(in);
+    return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, 0, std::string("not a JSON report: ") + e.what());
   }
+}
+
+// Candidates of the report (read from `path`), each with whether it was
+// accepted.
+std::vector<std::pair<LoopKey, bool>> ReadDecisions(
+    const nlohmann::json& report, const std::string& path) {
   std::vector<std::pair<LoopKey, bool>> out;
   for (const auto& [field, accepted] :
        {std::pair{"accepted", true}, {"rejected", false}}) {
@@ -150,7 +157,8 @@ std::map<LoopKey, LoopLabel> JudgeByTruth(const std::string& graph_path,
 // ground truth (a false loop whose measurement happens to be accurate
 // passes it), and otherwise equal the first.
 void Evaluate(const EvaluateArgs& args) {
-  const auto decisions = ReadDecisions(args.report);
+  const nlohmann::json verify_report = ReadReport(args.report);
+  const auto decisions = ReadDecisions(verify_report, args.report);
   const std::optional<PosesById> truth = ReadTruth(args);
 
   std::map<LoopKey, LoopLabel> by_truth;
@@ -223,25 +231,78 @@ void Evaluate(const EvaluateArgs& args) {
     }
     const Positions estimate = PositionsOf(PosesOf(ReadG2o(args.map).graph));
     const Positions reference = PositionsOf(*truth);
-    std::vector<Eigen::VectorXd> est, ref;
-    for (const auto& [id, p] : estimate) {
-      const auto it = reference.find(id);
-      if (it != reference.end() && it->second.size() == p.size()) {
-        est.push_back(p);
-        ref.push_back(it->second);
+    // The ATE of the poses with ids in [first, last] of any range given,
+    // over their own best alignment; NaN if too few match.
+    const auto ate_over =
+        [&](const std::vector<std::pair<PoseId, PoseId>>& ranges,
+            size_t* poses) {
+          std::vector<Eigen::VectorXd> est, ref;
+          for (const auto& [id, p] : estimate) {
+            const auto it = reference.find(id);
+            const bool in = std::any_of(
+                ranges.begin(), ranges.end(), [id = id](const auto& r) {
+                  return r.first <= id && id <= r.second;
+                });
+            if (in && it != reference.end() && it->second.size() == p.size()) {
+              est.push_back(p);
+              ref.push_back(it->second);
+            }
+          }
+          *poses = est.size();
+          if (est.empty() || static_cast<int>(est.size()) <= est[0].size()) {
+            return std::numeric_limits<double>::quiet_NaN();
+          }
+          Eigen::MatrixXd e(est[0].size(), est.size()),
+              r(est[0].size(), est.size());
+          for (size_t k = 0; k < est.size(); ++k) {
+            e.col(k) = est[k];
+            r.col(k) = ref[k];
+          }
+          return AbsoluteTrajectoryError(e, r);
+        };
+    size_t poses = 0;
+    const double ate = ate_over({{std::numeric_limits<PoseId>::min(),
+                                  std::numeric_limits<PoseId>::max()}},
+                                &poses);
+    if (poses == 0) {
+      throw InputError(args.map, 0, "no pose matches the ground truth");
+    }
+    out["ate_rmse"] = ate;
+    out["ate_poses"] = poses;
+    std::cout << "; ATE RMSE " << ate << " m over " << poses << " poses";
+    // A report of several chains: each chain (robot or session) and each map
+    // the verification joined, aligned on its own.
+    const nlohmann::json& report = verify_report;
+    if (report.contains("chains") && report.contains("maps")) {
+      std::vector<std::pair<PoseId, PoseId>> spans;
+      for (const auto& chain : report["chains"]) {
+        spans.emplace_back(chain.at("first").get<PoseId>(),
+                           chain.at("last").get<PoseId>());
+      }
+      out["chains"] = nlohmann::json::array();
+      for (size_t c = 0; c < spans.size(); ++c) {
+        size_t n = 0;
+        const double chain_ate = ate_over({spans[c]}, &n);
+        out["chains"].push_back(
+            {{"chain", c}, {"ate_rmse", chain_ate}, {"ate_poses", n}});
+        std::cout << "\nchain " << c << ": ATE RMSE " << chain_ate << " m over "
+                  << n << " poses";
+      }
+      out["maps"] = nlohmann::json::array();
+      for (const auto& map : report["maps"]) {
+        std::vector<std::pair<PoseId, PoseId>> members;
+        for (const auto& c : map.at("chains")) {
+          members.push_back(spans.at(c.get<size_t>()));
+        }
+        size_t n = 0;
+        const double map_ate = ate_over(members, &n);
+        out["maps"].push_back({{"chains", map.at("chains")},
+                               {"ate_rmse", map_ate},
+                               {"ate_poses", n}});
+        std::cout << "\nmap of chains " << map.at("chains").dump()
+                  << ": ATE RMSE " << map_ate << " m over " << n << " poses";
       }
     }
-    if (est.empty())
-      throw InputError(args.map, 0, "no pose matches the ground truth");
-    Eigen::MatrixXd e(est[0].size(), est.size()), r(est[0].size(), est.size());
-    for (size_t k = 0; k < est.size(); ++k) {
-      e.col(k) = est[k];
-      r.col(k) = ref[k];
-    }
-    const double ate = AbsoluteTrajectoryError(e, r);
-    out["ate_rmse"] = ate;
-    out["ate_poses"] = est.size();
-    std::cout << "; ATE RMSE " << ate << " m over " << est.size() << " poses";
   }
   std::cout << "\n";
   if (!args.json.empty()) {

@@ -116,6 +116,19 @@ TEST(RrrTool, RobotsKeyedAsSymbolsAreChainsNamedByTheirLetters) {
   std::string first;
   written >> first >> first;
   EXPECT_EQ(first, std::to_string(a));
+  // Evaluated per robot and per map, each aligned on its own.
+  const std::string none = Tmp("fleet_false.txt"),
+                    scores = Tmp("fleet_scores.json");
+  std::ofstream(none) << "";
+  ASSERT_EQ(Rrr("evaluate " + report + " --map " + out + " --gt-g2o " + fleet +
+                " --false-loops " + none + " --json " + scores)
+                .status,
+            0);
+  const nlohmann::json e = ReadJson(scores);
+  ASSERT_EQ(e["chains"].size(), 2u);
+  EXPECT_EQ(e["chains"][1]["ate_poses"], 5);
+  ASSERT_EQ(e["maps"].size(), 2u);
+  EXPECT_LT(e["maps"][1]["ate_rmse"].get<double>(), 1e-6);
 }
 
 TEST(RrrTool, OptimizeJoinsTwoChainsByTheirLoops) {
