@@ -34,6 +34,10 @@ void AddSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--group", options->group, "false loops come in groups of G")
       ->capture_default_str();
+  cmd->add_option("--robots", options->robots,
+                  "robots that drive the path in turn, each its own odometry "
+                  "chain from the identity, keyed as GTSAM symbols a, b, ...")
+      ->capture_default_str();
   cmd->add_option("--seed", options->seed, "random seed")
       ->capture_default_str();
   cmd->add_option("-o,--output", *output, "g2o output")->required();

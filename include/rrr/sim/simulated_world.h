@@ -46,6 +46,11 @@ struct WorldOptions {
   // poses), in groups of `group`.
   int false_loops = 40;
   int group = 1;
+  // Robots that drive the path in turn, poses / robots each: each an
+  // odometry chain of its own that starts at the identity (no odometry
+  // between robots; only loops join them), its poses keyed as the GTSAM
+  // symbols 'a', 'b', ... when there are several (AsSymbol).
+  int robots = 1;
   std::uint64_t seed = 1;
 
   // Empty if usable, else the problem.

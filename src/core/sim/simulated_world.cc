@@ -99,6 +99,9 @@ std::string WorldOptions::Validate() const {
   if (min_gap < 2) return "min_gap must be at least 2";
   if (false_loops < 0 || group < 1)
     return "false loops must be >= 0, group >= 1";
+  if (robots < 1 || robots > 26 || poses / robots < 100) {
+    return "robots must be 1 to 26, with at least 100 poses each";
+  }
   return "";
 }
 
@@ -145,16 +148,27 @@ SimulatedWorld SimulateWorld(const WorldOptions& options) {
                      options.translation_noise * unit(rng),
                      options.rotation_noise * unit(rng));
   };
+  // Robot r drives poses [first(r), first(r + 1)).
+  const auto first = [&](int r) {
+    return static_cast<int>(std::int64_t{options.poses} * r / options.robots);
+  };
   Pose2 estimate;
-  world.graph.AddPose(0, estimate);
   std::vector<Constraint<Pose2>> odometry;
-  for (int k = 1; k < options.poses; ++k) {
-    edge.from = k - 1;
-    edge.to = k;
-    edge.measurement = noisy(world.truth[k - 1].between(world.truth[k]));
-    estimate = estimate * edge.measurement;
-    world.graph.AddPose(k, estimate);
-    odometry.push_back(edge);
+  for (int r = 0, k = 0; r < options.robots; ++r) {
+    const PoseId base =
+        options.robots == 1 ? 0 : PoseId{'a' + r} << 56;  // AsSymbol
+    for (; k < first(r + 1); ++k) {
+      if (k == first(r)) {
+        estimate = Pose2();  // a robot's odometry starts at the identity
+      } else {
+        edge.from = k - 1;
+        edge.to = k;
+        edge.measurement = noisy(world.truth[k - 1].between(world.truth[k]));
+        estimate = estimate * edge.measurement;
+        odometry.push_back(edge);
+      }
+      world.graph.AddPose(base + k - first(r), estimate);
+    }
   }
   for (const auto& e : odometry) world.graph.AddEdge(e);
   for (const auto& [earlier, later] : revisits) {

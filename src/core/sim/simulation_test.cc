@@ -8,6 +8,8 @@
 #include "rrr/eval/ground_truth.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/chain_spans.h"
+#include "rrr/io/symbol_key.h"
 #include "rrr/sim/false_loops.h"
 #include "rrr/sim/simulated_world.h"
 
@@ -227,6 +229,33 @@ TEST(SimulateWorld, OdometryIsNoisyTruthAndLoopsAreTrue) {
   }
   EXPECT_EQ(SimulateWorld(options).graph.loops()[3].from,
             w.graph.loops()[3].from);
+}
+
+TEST(SimulateWorld, RobotsDriveInTurnEachItsOwnChainKeyedByItsLetter) {
+  WorldOptions options;
+  options.poses = 900;
+  options.robots = 3;
+  options.false_loops = 0;
+  const SimulatedWorld world = SimulateWorld(options);
+  const std::vector<ChainSpan> chains = ChainSpansOf(world.graph);
+  ASSERT_EQ(chains.size(), 3u);
+  for (int r = 0; r < 3; ++r) {
+    EXPECT_EQ(chains[r].size(), 300);
+    const auto symbol = AsSymbol(world.graph.ids()[chains[r].first]);
+    ASSERT_TRUE(symbol.has_value());
+    EXPECT_EQ(symbol->robot, 'a' + r);
+    EXPECT_EQ(symbol->index, 0);
+    // Each robot's odometry starts at the identity.
+    EXPECT_EQ(world.graph.estimates()[chains[r].first].translation().norm(),
+              0.0);
+  }
+  int between = 0;
+  for (const auto& e : world.graph.loops()) {
+    between += ChainHolding(chains, e.from) != ChainHolding(chains, e.to);
+  }
+  EXPECT_GT(between, 0);
+  options.robots = 10;  // 90 poses each
+  EXPECT_THROW(SimulateWorld(options), std::invalid_argument);
 }
 
 }  // namespace
