@@ -131,12 +131,12 @@ def main():
                    accepted=len(report["accepted"]), precision=scores["precision"], recall=scores["recall"],
                    ate=scores["ate_rmse"], pairs_to_join=len(wanted), joined=len(joined & wanted),
                    wrongly_joined=len(wrong), seconds=seconds,
-                   ratio=seconds / single_seconds if single_seconds else None)
+                   ratio=seconds / single_seconds if single_seconds else 1.0)
         rows.append(row)
         print(f"{name[:10]:>10} {kind:>10} {outliers:>10} {chains:>10} "
               f"{row['accepted']:>10} {row['precision']:>10.4f} {row['recall']:>10.4f} {row['ate']:>10.3f} "
               f"{row['joined']:>4}/{row['pairs_to_join']:<2}{'!' * len(wrong):>4} {seconds:>10.2f} "
-              f"{(row['ratio'] or 0):>10.2f}", flush=True)
+              f"{row['ratio']:>10.2f}", flush=True)
         return seconds
 
     if not args.between:
@@ -194,7 +194,7 @@ def main():
         for r in rows:
             f.write(f"| {r['dataset']} | {r['kind']} | {r['outliers']} | {r['chains']} | {r['accepted']} | "
                     f"{r['precision']:.4f} | {r['recall']:.4f} | {r['ate']:.3f} | {r['joined']} / {r['pairs_to_join']} | "
-                    f"{r['wrongly_joined']} | {r['seconds']:.2f} | {(r['ratio'] or 0):.2f} |\n")
+                    f"{r['wrongly_joined']} | {r['seconds']:.2f} | {r['ratio']:.2f} |\n")
     print(f"wrote {out / 'table.md'}")
 
 

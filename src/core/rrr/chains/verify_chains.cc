@@ -150,8 +150,8 @@ class PairJudge {
     return Concat(inside_, Links(links));
   }
   std::vector<int> Links(const std::vector<int>& links) const {
-    std::vector<int> out;
-    for (const int k : links) out.push_back(num_inside_ + k);
+    std::vector<int> out(links.size());
+    for (size_t n = 0; n < links.size(); ++n) out[n] = num_inside_ + links[n];
     return out;
   }
 
