@@ -18,9 +18,10 @@
 namespace rrr {
 namespace {
 
-// The loops between two chains, judged by rules 1–3 of VerifyChains over
-// the graph of the two chains: their poses at their own maps (each in its
-// own frame), their odometry, their accepted loops, then the candidates.
+// The loops between two chains, judged by rules 1–3 of VerifyChains over a
+// graph of chains: the two, each at its own map in its own frame, or every
+// chain of the map they are in already; their odometry, their accepted
+// loops, then the candidates.
 template <class Pose>
 class PairJudge {
  public:
@@ -103,8 +104,7 @@ class PairJudge {
         TryJoin(*agreeing[i], *agreeing[j], one, &joined);
       }
     }
-    // Rule 3: the other clusters against the joined map, largest first; or
-    // none, apart.
+    // Rule 3: the other clusters against the joined map; or none, apart.
     std::vector<std::vector<int>> rest;
     for (const PairCluster& c : clusters_) {
       std::vector<int> open;
