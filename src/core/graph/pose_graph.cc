@@ -4,6 +4,7 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/disjoint_sets.h"
 
 namespace rrr {
 
@@ -79,16 +80,11 @@ std::string PoseGraph<Pose>::CheckChain() const {
 template <class Pose>
 std::string PoseGraph<Pose>::CheckConnected(
     const std::vector<int>& loops) const {
-  std::vector<int> root(num_poses());
-  for (int p = 0; p < num_poses(); ++p) root[p] = p;
-  const auto find = [&](int p) {
-    while (root[p] != p) p = root[p] = root[root[p]];
-    return p;
-  };
-  for (const Edge& e : odometry_) root[find(e.from)] = find(e.to);
-  for (const int k : loops) root[find(loops_[k].from)] = find(loops_[k].to);
+  DisjointSets sets(num_poses());
+  for (const Edge& e : odometry_) sets.Join(e.from, e.to);
+  for (const int k : loops) sets.Join(loops_[k].from, loops_[k].to);
   for (int p = 1; p < num_poses(); ++p) {
-    if (find(p) != find(0)) {
+    if (sets.Find(p) != 0) {
       return "pose " + std::to_string(ids_[p]) +
              " is not reached from the first pose by any edge: the graph is "
              "several maps";

@@ -5,6 +5,7 @@
 #include "../testing/noisy_chain.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/io/g2o.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr/solver/pose_graph_solver.h"
 
@@ -36,8 +37,7 @@ TEST(ChordalInitialization, StartsCloserThanTheOdometryWhereLoopsCloseDrift) {
   options.false_loops = 0;
   options.rotation_noise = 0.02;
   const SimulatedWorld w = SimulateWorld(options);
-  std::vector<int> all(w.graph.loops().size());
-  for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  const std::vector<int> all = AllLoops(w.graph);
   const std::vector<Pose2> chordal = ChordalInitialization(w.graph, all);
   PoseGraphSolver<Pose2> solver(w.graph, 1);
   const double from_odometry =

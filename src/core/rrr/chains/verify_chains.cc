@@ -9,6 +9,8 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/disjoint_sets.h"
+#include "rrr/io/g2o.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/clustering.h"
 #include "rrr/rrr/map/verify_with_map.h"
@@ -39,7 +41,7 @@ class PairJudge {
   // of that map placed in its frame. `verdict` receives the candidates'
   // decisions, reasons and clusters.
   PairJudge(const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans,
-            const std::vector<Pose>& estimates,
+            const ChainSpan& second, const std::vector<Pose>& estimates,
             const std::vector<int>& accepted, ChainPair<Pose>* pair,
             const RrrOptions& options, double group_scale, double map_scale,
             Verdict* verdict)
@@ -49,7 +51,7 @@ class PairJudge {
                              Concat(accepted, pair->candidates))),
         solver_(pair_graph_, 1),
         first_of_b_(spans.front().size()),
-        b_first_(spans.back().first),
+        second_(second),
         num_inside_(static_cast<int>(accepted.size())),
         inside_(Range(0, num_inside_)),
         apart_error_(
@@ -195,7 +197,7 @@ class PairJudge {
       loops.push_back(pair_->candidates[k]);
       const auto& e = graph_.loops()[loops.back()];
       for (const int p : {e.from, e.to}) {
-        ChainSpan& span = p < b_first_ ? a : b;
+        ChainSpan& span = second_.Holds(p) ? b : a;
         span.first = std::min(span.first, p);
         span.last = std::max(span.last, p);
       }
@@ -205,8 +207,7 @@ class PairJudge {
     const std::vector<Pose> start =
         Placed(solver.initial(), a.size(), own.loops().front());
     MinimizeResult result;
-    solver.Optimize(Range(0, static_cast<int>(loops.size())),
-                    ConvergenceOptions{}, &result, &start);
+    solver.Optimize(AllLoops(own), ConvergenceOptions{}, &result, &start);
     return result.final_chi2;
   }
 
@@ -262,7 +263,7 @@ class PairJudge {
       for (const int k : links) {
         const auto& e = graph_.loops()[pair_->candidates[k]];
         for (const int p : {e.from, e.to}) {
-          const int side = p < b_first_ ? 0 : 2;
+          const int side = second_.Holds(p) ? 2 : 0;
           r[side] = std::min(r[side], graph_.ids()[p]);
           r[side + 1] = std::max(r[side + 1], graph_.ids()[p]);
         }
@@ -389,8 +390,8 @@ class PairJudge {
   const std::vector<Pose>& estimates_;
   const PoseGraph<Pose> pair_graph_;
   const PoseGraphSolver<Pose> solver_;
-  const int first_of_b_;  // in pair_graph_
-  const int b_first_;     // in graph_
+  const int first_of_b_;    // in pair_graph_, when it holds the two chains
+  const ChainSpan second_;  // the pair's second chain, in graph_
   const int num_inside_;
   const std::vector<int> inside_;
   const double apart_error_;  // both maps, no link between them
@@ -429,12 +430,6 @@ std::vector<Pose> FramesIn(const std::vector<ChainPair<Pose>>& pairs,
     }
   }
   return frame;
-}
-
-// Union–find over chains: the lowest index of each set is its root.
-int MapOf(std::vector<int>* root, int c) {
-  while ((*root)[c] != c) c = (*root)[c] = (*root)[(*root)[c]];
-  return c;
 }
 
 }  // namespace
@@ -502,8 +497,7 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
   }
 
   // Each pair, with both chains at their own maps.
-  std::vector<int> root(num_chains);
-  std::iota(root.begin(), root.end(), 0);
+  DisjointSets maps(num_chains);  // joined chains; a map is its lowest chain
   // The pairs with the most candidates first: a pair with few may then be
   // joined through others.
   std::vector<std::pair<std::pair<int, int>, std::vector<int>>> ordered(
@@ -521,14 +515,14 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
     pair.candidates = chains_and_candidates.second;
     // Two chains apart: each at its own map, with its accepted loops; in one
     // map already: every chain of it in its frame, with every accepted loop.
-    const int map = MapOf(&root, a);
-    const bool one_map = map == MapOf(&root, b);
+    const int map = maps.Find(a);
+    const bool one_map = map == maps.Find(b);
     const std::vector<Pose> frames = FramesIn(out.pairs, num_chains, map);
     std::vector<ChainSpan> spans;
     std::vector<Pose> placed = out.estimates;
     std::vector<int> accepted;
     for (int c = 0; c < num_chains; ++c) {
-      if (one_map ? MapOf(&root, c) != map : c != a && c != b) continue;
+      if (one_map ? maps.Find(c) != map : c != a && c != b) continue;
       spans.push_back(out.chains[c]);
       for (int p = out.chains[c].first; one_map && p <= out.chains[c].last;
            ++p) {
@@ -540,12 +534,12 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
       const int from = ChainHolding(out.chains, e.from);
       const int to = ChainHolding(out.chains, e.to);
       const auto in = [&](int c) {
-        return one_map ? MapOf(&root, c) == map : c == a || c == b;
+        return one_map ? maps.Find(c) == map : c == a || c == b;
       };
       if (in(from) && in(to) && (one_map || from == to)) accepted.push_back(k);
     }
     PairJudge<Pose> judge(
-        graph, spans, placed, accepted, &pair, options,
+        graph, spans, out.chains[b], placed, accepted, &pair, options,
         std::max(chain_stats[a].group_noise_scale,
                  chain_stats[b].group_noise_scale),
         std::max(chain_stats[a].noise_scale, chain_stats[b].noise_scale),
@@ -553,10 +547,7 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
     judge.Judge(one_map);
     if (one_map) pair.relative = frames[a].inverse() * frames[b];
     std::sort(pair.accepted.begin(), pair.accepted.end());
-    if (pair.joined) {
-      const int ra = MapOf(&root, a), rb = MapOf(&root, b);
-      root[std::max(ra, rb)] = std::min(ra, rb);
-    }
+    if (pair.joined) maps.Join(a, b);
     out.pairs.push_back(std::move(pair));
   }
   std::sort(verdict.accepted.begin(), verdict.accepted.end());
@@ -569,7 +560,7 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
 
   // Rule 4: each map, in the frame of its lowest chain, minimized with its
   // accepted loops.
-  for (int c = 0; c < num_chains; ++c) out.map_of_chain[c] = MapOf(&root, c);
+  for (int c = 0; c < num_chains; ++c) out.map_of_chain[c] = maps.Find(c);
   for (int m = 0; m < num_chains; ++m) {
     std::vector<ChainSpan> spans;
     for (int c = 0; c < num_chains; ++c) {
@@ -593,11 +584,10 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
     }
     const PoseGraph<Pose> joined = SubGraph(graph, spans, start, loops);
     const PoseGraphSolver<Pose> solver(joined, 1);
-    std::vector<int> all(loops.size());
-    std::iota(all.begin(), all.end(), 0);
     out.minimized.emplace_back();
-    const std::vector<Pose> map = solver.Optimize(
-        all, ConvergenceOptions{}, &out.minimized.back(), &joined.estimates());
+    const std::vector<Pose> map =
+        solver.Optimize(AllLoops(joined), ConvergenceOptions{},
+                        &out.minimized.back(), &joined.estimates());
     const std::vector<int> poses = Poses(spans);
     for (size_t k = 0; k < poses.size(); ++k) out.estimates[poses[k]] = map[k];
   }

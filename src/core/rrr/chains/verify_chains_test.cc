@@ -37,20 +37,26 @@ int AppendChain(const SimulatedWorld& world, const Pose2& moved,
   return first;
 }
 
-// One world's graph cut into two sessions at pose `cut`: the odometry edge
-// into it removed, the second session's estimates restarted elsewhere.
-// Loops across the cut become loops between the chains.
-PoseGraph<Pose2> CutInTwo(const PoseGraph<Pose2>& graph, int cut) {
+// One world's graph cut into sessions at the poses `cuts` (ascending): the
+// odometry edge into each removed, each later session's estimates restarted
+// elsewhere. Loops across a cut become loops between the chains.
+PoseGraph<Pose2> CutAt(const PoseGraph<Pose2>& graph,
+                       const std::vector<int>& cuts) {
   PoseGraph<Pose2> out;
-  const Pose2 restart =
-      Pose2(40.0, -25.0, 1.2) * graph.estimates()[cut].inverse();
-  for (int k = 0; k < graph.num_poses(); ++k) {
-    const Pose2& x = graph.estimates()[k];
-    out.AddPose(graph.ids()[k] + (k >= cut ? 1 : 0),
-                k >= cut ? restart * x : x);
+  Pose2 restart;
+  for (int k = 0, next = 0; k < graph.num_poses(); ++k) {
+    if (next < static_cast<int>(cuts.size()) && k == cuts[next]) {
+      ++next;
+      restart = Pose2(40.0 * next, -25.0, 1.2 * next) *
+                graph.estimates()[k].inverse();
+    }
+    out.AddPose(graph.ids()[k], restart * graph.estimates()[k]);
   }
   for (const auto& e : graph.odometry()) {
-    if (std::max(e.from, e.to) != cut) out.AddEdge(e);
+    const int later = std::max(e.from, e.to);
+    if (std::find(cuts.begin(), cuts.end(), later) == cuts.end()) {
+      out.AddEdge(e);
+    }
   }
   for (const auto& e : graph.loops()) out.AddEdge(e);
   return out;
@@ -72,7 +78,7 @@ RrrOptions Options() {
 
 TEST(ChainSpans, AGapStartsAChain) {
   const SimulatedWorld world = SimulateWorld(Grid(400, 1));
-  const PoseGraph<Pose2> two = CutInTwo(world.graph, 150);
+  const PoseGraph<Pose2> two = CutAt(world.graph, {150});
   const std::vector<ChainSpan> spans = ChainSpansOf(two);
   ASSERT_EQ(spans.size(), 2u);
   EXPECT_EQ(spans[0].first, 0);
@@ -86,7 +92,7 @@ TEST(ChainSpans, AGapStartsAChain) {
 TEST(VerifyChains, TwoSessionsOfOneWorldAreJoinedByTheirLoops) {
   const SimulatedWorld world = SimulateWorld(Grid(1200, 3));
   const int cut = 600;
-  const PoseGraph<Pose2> two = CutInTwo(world.graph, cut);
+  const PoseGraph<Pose2> two = CutAt(world.graph, {cut});
   int across = 0;
   for (const auto& e : two.loops()) {
     across += (e.from < cut) != (e.to < cut);
@@ -113,6 +119,27 @@ TEST(VerifyChains, TwoSessionsOfOneWorldAreJoinedByTheirLoops) {
       const DecisionTest test = v.verdict.reasons[k].test;
       EXPECT_TRUE(test == DecisionTest::kJoin || test == DecisionTest::kMap);
     }
+  }
+}
+
+TEST(VerifyChains, ThreeSessionsMakeOneMapWithTheLoopsOfEveryPair) {
+  // The pairs judged after two joins hold their chains in one map already;
+  // their loops are judged against it, whichever chains lie between them.
+  const SimulatedWorld world = SimulateWorld(Grid(1500, 3));
+  const std::vector<int> cuts = {500, 1000};
+  const PoseGraph<Pose2> three = CutAt(world.graph, cuts);
+  const ChainsVerdict<Pose2> v = VerifyChains(three, Options());
+  ASSERT_EQ(v.chains.size(), 3u);
+  EXPECT_EQ(v.map_of_chain, (std::vector<int>{0, 0, 0}));
+  for (const ChainPair<Pose2>& pair : v.pairs) {
+    // Every loop is true: (nearly) all between the chains are kept.
+    EXPECT_GE(pair.accepted.size(), 0.9 * pair.candidates.size())
+        << pair.first << "-" << pair.second;
+  }
+  for (const int cut : cuts) {
+    const Pose2 step = v.estimates[cut - 1].between(v.estimates[cut]);
+    const Pose2 truth = world.truth[cut - 1].between(world.truth[cut]);
+    EXPECT_LT((step.translation() - truth.translation()).norm(), 0.3) << cut;
   }
 }
 

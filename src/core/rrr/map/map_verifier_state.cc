@@ -49,6 +49,18 @@ std::string OptionsOfState(ByteReader* in) {
   throw std::runtime_error("it is not a state of the map procedure");
 }
 
+// Reads `what`, a value of the enum of `last` from 0 to `last`. Throws
+// std::runtime_error naming it if it is out of that range.
+template <class Enum>
+Enum ReadEnum(ByteReader* in, Enum last, const char* what) {
+  const std::int64_t value = in->Int(what);
+  if (value < 0 || value > static_cast<std::int64_t>(last)) {
+    throw std::runtime_error(std::string(what) + " has the unknown value " +
+                             std::to_string(value));
+  }
+  return static_cast<Enum>(value);
+}
+
 }  // namespace
 
 template <class Pose>
@@ -109,12 +121,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
         std::to_string(clustering_.clusters().size()) + " clusters");
   }
   for (ClusterRecord& r : records_) {
-    const std::int64_t status = in.Int("a cluster's status");
-    if (status < 0 || status > static_cast<int>(Status::kRefused)) {
-      throw std::runtime_error("a cluster has the unknown status " +
-                               std::to_string(status));
-    }
-    r.status = static_cast<Status>(status);
+    r.status = ReadEnum(&in, Status::kRefused, "a cluster's status");
     r.accepted = in.Ints("a cluster's accepted links");
     r.ready_pose = static_cast<int>(in.Int("a cluster's ready pose"));
   }
@@ -122,12 +129,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   alone_chi2_ = in.Doubles("the loops' errors alone");
   reasons_.resize(alone_chi2_.size());
   for (DecisionReason& r : reasons_) {
-    const std::int64_t test = in.Int("a decision's test");
-    if (test < 0 || test > static_cast<int>(DecisionTest::kOutweighed)) {
-      throw std::runtime_error("a decision has the unknown test " +
-                               std::to_string(test));
-    }
-    r.test = static_cast<DecisionTest>(test);
+    r.test = ReadEnum(&in, DecisionTest::kOutweighed, "a decision's test");
     for (double* v : {&r.statistic, &r.gate, &r.scale}) {
       *v = in.Double("a decision's figure");
     }
