@@ -9,14 +9,17 @@ between chains, false ones among them. rrr verify judges each set; scored
 against the list of false loops, with the ATE against the optimum of the
 dataset without false loops (one rigid alignment for the whole map: chains
 left apart show as a large ATE), whether every pair of chains with true loops
-between them was joined, and the time against the uncut set's.
+between them was joined (an accepted loop between them) and whether a pair
+without any was, and the time against the uncut set's.
 
 With --between, the false loops are drawn between chains only (the dataset
-cut first, then rrr spoil --between-chains).
+cut first, then rrr spoil --between-chains). --methods judges every set with
+each method of rrr verify (rrr: the map procedure; dcs, gnc, pcm), side by
+side, each timed against its own run on the uncut set.
 
     bench/chains.py [--datasets city10000 manhattanOlson3500 sphere2500]
         [--chains 1 2 4] [--outliers 100 1000] [--kinds random grouped] [--seeds 1]
-        [--between] [--out bench/out/chains]
+        [--between] [--methods rrr dcs gnc pcm] [--out bench/out/chains]
 """
 import argparse
 import json
@@ -81,14 +84,13 @@ def cut(src, dst, chains):
     return firsts
 
 
-def true_pairs(report, firsts, false_pairs):
-    """The pairs of chains that true loops join."""
+def chain_pairs(loops, firsts, skip=frozenset()):
+    """The pairs of chains that the loops `loops` (but those in `skip`) join."""
     def chain_of(i):
         return sum(1 for f in firsts if i >= f) - 1
     pairs = set()
-    for d in report["decisions"]:
-        a, b = d["pair"]
-        if chain_of(a) != chain_of(b) and tuple(sorted((a, b))) not in false_pairs:
+    for a, b in loops:
+        if chain_of(a) != chain_of(b) and tuple(sorted((a, b))) not in skip:
             pairs.add(tuple(sorted((chain_of(a), chain_of(b)))))
     return pairs
 
@@ -98,42 +100,57 @@ def main():
     parser.add_argument("--datasets", nargs="*", default=["city10000", "manhattanOlson3500", "sphere2500"])
     parser.add_argument("--chains", nargs="*", type=int, default=[1, 2, 4])
     parser.add_argument("--outliers", nargs="*", type=int, default=[100, 1000])
-    parser.add_argument("--kinds", nargs="*", default=["random", "grouped"], choices=["random", "local", "grouped"])
+    parser.add_argument("--kinds", nargs="*", default=["random", "grouped"], choices=common.SPOIL_KINDS)
     parser.add_argument("--group", type=int, default=10, help="group size of the grouped kind")
     parser.add_argument("--seeds", nargs="*", type=int, default=[1])
     parser.add_argument("--window", type=int, default=10)
     parser.add_argument("--between", action="store_true",
                         help="false loops only between chains: the dataset cut first, then rrr spoil "
                              "--between-chains (the row of 1 chain: the uncut dataset with the same false loops)")
+    parser.add_argument("--methods", nargs="*", default=["rrr"], choices=["rrr", "dcs", "gnc", "pcm"])
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "chains"))
     args = parser.parse_args()
     common.require_rrr()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    header = ("dataset", "kind", "false", "chains", "acc", "prec", "recall", "ATE", "joined", "sec", "× 1 chain")
+    header = ("dataset", "kind", "false", "chains", "method", "acc", "prec", "recall", "ATE", "joined", "sec", "× 1 chain")
     print(" ".join(f"{h:>10}" for h in header), flush=True)
     rows = []
 
     def judge(name, kind, outliers, seed, chains, folder, graph, firsts, false_list, optimum, single_seconds):
+        """Judges `graph` with each method in its own folder; returns the
+        seconds of each method."""
+        seconds = {}
+        for method in args.methods:
+            sub = folder / method
+            sub.mkdir(exist_ok=True)
+            seconds[method] = judge_with(method, name, kind, outliers, seed, chains, sub, graph, firsts,
+                                         false_list, optimum, (single_seconds or {}).get(method))
+        return seconds
+
+    def judge_with(method, name, kind, outliers, seed, chains, folder, graph, firsts, false_list, optimum,
+                   single_seconds):
         false_pairs = set()
         for line in open(false_list):
             if line.strip() and not line.startswith("#"):
                 a, b = map(int, line.split()[:2])
                 false_pairs.add(tuple(sorted((a, b))))
-        report, seconds, out_map = common.verify(graph, args.window, folder)
+        report, seconds, out_map = common.verify(graph, args.window, folder, extra=("--method", method))
         scores = common.evaluate(folder / "report.json", "--map", out_map, "--false-loops",
                                  false_list, "--gt-g2o", optimum)
-        wanted = true_pairs(report, firsts, false_pairs)
-        joined = {tuple(p["chains"]) for p in report.get("chain_pairs", []) if p["joined"]}
+        # Joined: an accepted loop between the two chains (every method's
+        # map then holds them in one frame).
+        wanted = chain_pairs(report["accepted"] + report["rejected"], firsts, false_pairs)
+        joined = chain_pairs(report["accepted"], firsts)
         wrong = joined - wanted
-        row = dict(dataset=name, kind=kind, outliers=outliers, seed=seed, chains=chains,
+        row = dict(dataset=name, kind=kind, outliers=outliers, seed=seed, chains=chains, method=method,
                    accepted=len(report["accepted"]), precision=scores["precision"], recall=scores["recall"],
                    ate=scores["ate_rmse"], pairs_to_join=len(wanted), joined=len(joined & wanted),
                    wrongly_joined=len(wrong), seconds=seconds,
                    ratio=seconds / single_seconds if single_seconds else 1.0)
         rows.append(row)
-        print(f"{name[:10]:>10} {kind:>10} {outliers:>10} {chains:>10} "
+        print(f"{name[:10]:>10} {kind:>10} {outliers:>10} {chains:>10} {method:>10} "
               f"{row['accepted']:>10} {row['precision']:>10.4f} {row['recall']:>10.4f} {row['ate']:>10.3f} "
               f"{row['joined']:>4}/{row['pairs_to_join']:<2}{'!' * len(wrong):>4} {seconds:>10.2f} "
               f"{row['ratio']:>10.2f}", flush=True)
@@ -168,7 +185,7 @@ def main():
                             cut_clean = folder / "cut_clean.g2o"
                             firsts = cut(clean, cut_clean, chains)
                             graph, false_list = folder / "cut.g2o", folder / "false.txt"
-                            extra = {"random": [], "local": ["--local"], "grouped": ["--group", args.group]}[kind]
+                            extra = common.spoil_flags(kind, args.group)
                             common.run("spoil", cut_clean, "--outliers", n, "--seed", seed, "--between-chains",
                                        *extra, "--reference", optimum, "--output", graph, "--truth", false_list)
                             # The same false loops on the uncut graph: the time of one chain.
@@ -189,10 +206,10 @@ def main():
     with open(out / "results.json", "w") as f:
         json.dump(rows, f, indent=1)
     with open(out / "table.md", "w") as f:
-        f.write("| dataset | kind | false loops | chains | accepted | precision | recall | ATE m | pairs joined / with true loops | wrongly joined | s | × 1 chain |\n")
-        f.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+        f.write("| dataset | kind | false loops | chains | method | accepted | precision | recall | ATE m | pairs joined / with true loops | wrongly joined | s | × 1 chain |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
-            f.write(f"| {r['dataset']} | {r['kind']} | {r['outliers']} | {r['chains']} | {r['accepted']} | "
+            f.write(f"| {r['dataset']} | {r['kind']} | {r['outliers']} | {r['chains']} | {r['method']} | {r['accepted']} | "
                     f"{r['precision']:.4f} | {r['recall']:.4f} | {r['ate']:.3f} | {r['joined']} / {r['pairs_to_join']} | "
                     f"{r['wrongly_joined']} | {r['seconds']:.2f} | {r['ratio']:.2f} |\n")
     print(f"wrote {out / 'table.md'}")

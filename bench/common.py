@@ -157,6 +157,15 @@ def graph_size(path):
     return {"poses": poses, "candidates": len(loops)}
 
 
+def spoil_flags(kind, group):
+    """rrr spoil flags of a kind of false loops (SPOIL_KINDS)."""
+    return {"random": [], "local": ["--local"], "look-alike": ["--look-alike"],
+            "grouped": ["--group", group]}[kind]
+
+
+SPOIL_KINDS = ["random", "local", "look-alike", "grouped"]
+
+
 def spoiled_sets(args, out):
     """Makes every spoiled set of args.datasets × kinds × outliers × seeds
     (rrr spoil into OUT/NAME_KIND_N_SEED/) and yields a dict with its name,
@@ -178,8 +187,7 @@ def spoiled_sets(args, out):
                     folder = out / f"{name}_{kind}_{n}_{seed}"
                     folder.mkdir(exist_ok=True)
                     spoiled, false_list = folder / "spoiled.g2o", folder / "false.txt"
-                    extra = {"random": [], "local": ["--local"],
-                             "grouped": ["--group", args.group]}[kind]
+                    extra = spoil_flags(kind, args.group)
                     run("spoil", clean, "--outliers", n, "--seed", seed, *extra,
                         "--reference", optimum, "--output", spoiled, "--truth", false_list)
                     yield dict(name=name, kind=kind, outliers=n, seed=seed, folder=folder,

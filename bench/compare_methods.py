@@ -77,7 +77,7 @@ def main():
     parser.add_argument("--datasets", nargs="*", default=MATRIX["datasets"])
     parser.add_argument("--outliers", nargs="*", type=int, default=MATRIX["outliers"])
     parser.add_argument("--kinds", nargs="*", default=MATRIX["kinds"],
-                        choices=["random", "local", "grouped"])
+                        choices=common.SPOIL_KINDS)
     parser.add_argument("--group", type=int, default=MATRIX["group"])
     parser.add_argument("--seeds", nargs="*", type=int, default=MATRIX["seeds"])
     parser.add_argument("--methods", nargs="*", default=list(METHODS), choices=list(METHODS))

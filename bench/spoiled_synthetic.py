@@ -21,7 +21,7 @@ def main():
                         default=["manhattanOlson3500", "intel", "sphere2500", "city10000"])
     parser.add_argument("--outliers", nargs="*", type=int, default=[100])
     parser.add_argument("--seeds", nargs="*", type=int, default=[1])
-    parser.add_argument("--kinds", nargs="*", default=["random"], choices=["random", "local", "grouped"])
+    parser.add_argument("--kinds", nargs="*", default=["random"], choices=common.SPOIL_KINDS)
     parser.add_argument("--group", type=int, default=10, help="group size of the grouped kind")
     parser.add_argument("--window", type=int, default=10)
     parser.add_argument("--repeat", type=int, default=1, help="runs of rrr verify; the median time is reported")

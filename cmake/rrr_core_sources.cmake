@@ -19,6 +19,7 @@ set(RRR_CORE_SOURCES
   src/core/graph/covariance.cc
   src/core/graph/odometry_chain.cc
   src/core/graph/odometry_noise.cc
+  src/core/solver/chain_maps.cc
   src/core/solver/chordal_initialization.cc
   src/core/solver/local_problem.cc
   src/core/solver/maintained_map.cc

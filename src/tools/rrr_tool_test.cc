@@ -129,6 +129,19 @@ TEST(RrrTool, RobotsKeyedAsSymbolsAreChainsNamedByTheirLetters) {
   EXPECT_EQ(e["chains"][1]["ate_poses"], 5);
   ASSERT_EQ(e["maps"].size(), 2u);
   EXPECT_LT(e["maps"][1]["ate_rmse"].get<double>(), 1e-6);
+  // PCM's inter-robot test has nothing to compare one loop with: its clique
+  // of one joins the robots, placed by that loop.
+  ASSERT_EQ(
+      Rrr("verify " + fleet + " --method pcm -w 10 -o " + out + " -r " + report)
+          .status,
+      0);
+  const nlohmann::json pcm = ReadJson(report);
+  ASSERT_EQ(pcm["chain_pairs"].size(), 1u);
+  EXPECT_TRUE(pcm["chain_pairs"][0]["joined"].get<bool>());
+  const std::vector<double> relative = pcm["chain_pairs"][0]["relative_pose"];
+  EXPECT_NEAR(relative[0], 0.0, 1e-9);
+  EXPECT_NEAR(relative[1], 3.0, 1e-9);
+  EXPECT_EQ(pcm["maps"].size(), 1u);
 }
 
 TEST(RrrTool, OptimizeJoinsTwoChainsByTheirLoops) {

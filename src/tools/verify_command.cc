@@ -83,7 +83,7 @@ nlohmann::json PoseNumbers(const Pose3& p) {
 // maps they make.
 template <class Pose>
 nlohmann::json ChainsJson(const PoseGraph<Pose>& graph,
-                          const ChainsVerdict<Pose>& chains) {
+                          const ChainMaps<Pose>& chains) {
   const auto& ids = graph.ids();
   nlohmann::json list = nlohmann::json::array();
   for (size_t c = 0; c < chains.chains.size(); ++c) {
@@ -105,7 +105,7 @@ nlohmann::json ChainsJson(const PoseGraph<Pose>& graph,
                         {"accepted", PairList(graph, pair.accepted)},
                         {"joined", pair.joined}};
     if (pair.joined) {
-      p["joined_by_clusters"] = pair.joined_by;
+      if (!pair.joined_by.empty()) p["joined_by_clusters"] = pair.joined_by;
       p["relative_pose"] = PoseNumbers(pair.relative);
     }
     pairs.push_back(std::move(p));
@@ -141,7 +141,11 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
   } else if (args.method == "gnc") {
     verdict = VerifyWithGncTls(graph, GncTlsOptions(), &map, &final_map);
   } else if (args.method == "pcm") {
-    verdict = VerifyWithPcm(graph, PcmOptions(), &map, &final_map);
+    ChainMaps<Pose> maps;
+    verdict = VerifyWithPcm(graph, PcmOptions(), &maps);
+    if (maps.chains.size() > 1) chains_report = ChainsJson(graph, maps);
+    map = std::move(maps.estimates);
+    final_map = maps.minimized.front();
   } else if (args.options.procedure == Procedure::kMap &&
              ChainSpansOf(graph).size() > 1) {
     ChainsVerdict<Pose> chains = VerifyChains(graph, args.options, &stats);
@@ -297,11 +301,12 @@ void AddVerifyCommand(CLI::App& app) {
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
     CheckOutputPaths({args->input}, {args->output, args->report});
-    // The map procedure judges a graph of several odometry chains, joined or
-    // not; DCS and GNC-TLS weigh every edge of a connected one; PCM and the
-    // published procedure need one chain.
+    // The map procedure and PCM judge a graph of several odometry chains,
+    // joined or not; DCS and GNC-TLS weigh every edge of a connected one; the
+    // published procedure needs one chain.
     GraphShape shape = GraphShape::kOneChain;
-    if (args->method == "rrr" && args->options.procedure == Procedure::kMap) {
+    if ((args->method == "rrr" && args->options.procedure == Procedure::kMap) ||
+        args->method == "pcm") {
       shape = GraphShape::kAnyChains;
     } else if (args->method == "dcs" || args->method == "gnc") {
       shape = GraphShape::kConnected;

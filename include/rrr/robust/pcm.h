@@ -6,7 +6,7 @@
 
 #include "rrr/graph/pose_graph.h"
 #include "rrr/rrr/verdict.h"
-#include "rrr/solver/convergence.h"
+#include "rrr/solver/chain_maps.h"
 
 namespace rrr {
 
@@ -14,7 +14,11 @@ namespace rrr {
 // consistent when the cycle they close with the odometry between their ends
 // has a Mahalanobis error under χ²(`probability`, e), with first-order
 // covariances of both loops and of the condensed odometry (OdometryChain);
-// the accepted loops are a maximum clique of the consistency graph. Every
+// the accepted loops are a maximum clique of the consistency graph. Over
+// several odometry chains (ChainSpansOf) this is the paper's inter-robot
+// test: loops are compared only with loops between the same two chains (or
+// inside the same chain), their cycle closed by the odometry of both, and
+// each such group keeps its own clique. Every
 // pair is checked; the clique is found with the greedy heuristic of
 // Pattabiraman et al. (which PCM's implementation offers for large graphs),
 // started from the `starts` vertices of highest degree. 0.99 is the χ²
@@ -24,12 +28,13 @@ struct PcmOptions {
   int starts = 64;
 };
 
-// The decisions; `*map` gets odometry plus the accepted loops, optimized,
-// if given.
+// The decisions. If `maps` is given, it receives the chains, the pairs of
+// chains with loops between them (joined when PCM keeps any, placed by the
+// first kept loop) and each map minimized with the accepted loops
+// (MinimizeMaps).
 template <class Pose>
 Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
-                      std::vector<Pose>* map = nullptr,
-                      MinimizeResult* minimized = nullptr);
+                      ChainMaps<Pose>* maps = nullptr);
 
 }  // namespace rrr
 

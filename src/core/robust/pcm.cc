@@ -3,13 +3,15 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cstdint>
+#include <map>
 #include <numeric>
+#include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/chain_spans.h"
 #include "rrr/graph/odometry_chain.h"
 #include "rrr/rrr/chi_square.h"
-#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -29,13 +31,6 @@ struct Uncertain {
     const typename Pose::Jacobian ad = other.pose.inverse().Adjoint();
     return {pose * other.pose, ad * cov * ad.transpose() + other.cov};
   }
-};
-
-// A loop from its earlier pose to its later one.
-template <class Pose>
-struct Link {
-  int early, late;
-  Uncertain<Pose> z;
 };
 
 // The condensed odometry from pose p to pose q (either order).
@@ -102,15 +97,35 @@ std::vector<int> GreedyClique(const BitGraph& g, int starts) {
   return best;
 }
 
+// A loop from its pose on the lower chain (the earlier pose, on one chain)
+// to its pose on the other.
+template <class Pose>
+struct Link {
+  int early, late;
+  Uncertain<Pose> z;
+};
+
 }  // namespace
 
 template <class Pose>
 Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
-                      std::vector<Pose>* map, MinimizeResult* minimized) {
-  const OdometryChain<Pose> chain = ChainOf(graph);
+                      ChainMaps<Pose>* maps) {
+  const std::vector<ChainSpan> spans = ChainSpansOf(graph);
+  std::vector<OdometryChain<Pose>> chains;
+  for (const ChainSpan& span : spans) {
+    chains.push_back(ChainOf(SubGraph(graph, {span}, graph.estimates(), {})));
+  }
+  // The condensed odometry from pose p to pose q of chain c (either order).
+  const auto odometry = [&](int c, int p, int q) {
+    return Odometry(chains[c], p - spans[c].first, q - spans[c].first);
+  };
   const double gate = ChiSquareQuantile(options.probability)(Pose::kDof);
+  // The loops grouped by the pair of chains they join (a chain with itself
+  // for the loops inside it).
+  std::map<std::pair<int, int>, std::vector<int>> groups;
   std::vector<Link<Pose>> links;
-  for (const auto& e : graph.loops()) {
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
     Uncertain<Pose> z{
         e.measurement,
         e.information.ldlt().solve(Constraint<Pose>::Information::Identity())};
@@ -119,36 +134,62 @@ Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
     } else {
       links.push_back({e.to, e.from, z.Inverse()});
     }
-  }
-  BitGraph consistent(links.size());
-  for (size_t i = 0; i < links.size(); ++i) {
-    for (size_t j = i + 1; j < links.size(); ++j) {
-      const Link<Pose>& a = links[i];
-      const Link<Pose>& b = links[j];
-      // early_a -> late_a -> late_b -> early_b -> early_a: the identity.
-      const Uncertain<Pose> cycle = a.z * Odometry(chain, a.late, b.late) *
-                                    b.z.Inverse() *
-                                    Odometry(chain, b.early, a.early);
-      const typename Pose::Tangent r = cycle.pose.Log();
-      const double d2 = r.dot(cycle.cov.ldlt().solve(r));
-      if (d2 < gate) consistent.Connect(i, j);
-    }
+    groups[{ChainHolding(spans, links.back().early),
+            ChainHolding(spans, links.back().late)}]
+        .push_back(static_cast<int>(k));
   }
   std::vector<bool> accepted(links.size(), false);
-  for (const int k : GreedyClique(consistent, options.starts)) {
-    accepted[k] = true;
+  for (const auto& [chain_pair, members] : groups) {
+    const auto [ca, cb] = chain_pair;
+    BitGraph consistent(members.size());
+    for (size_t i = 0; i < members.size(); ++i) {
+      for (size_t j = i + 1; j < members.size(); ++j) {
+        const Link<Pose>& a = links[members[i]];
+        const Link<Pose>& b = links[members[j]];
+        // early_a -> late_a -> late_b -> early_b -> early_a: the identity.
+        const Uncertain<Pose> cycle = a.z * odometry(cb, a.late, b.late) *
+                                      b.z.Inverse() *
+                                      odometry(ca, b.early, a.early);
+        const typename Pose::Tangent r = cycle.pose.Log();
+        const double d2 = r.dot(cycle.cov.ldlt().solve(r));
+        if (d2 < gate) consistent.Connect(i, j);
+      }
+    }
+    for (const int k : GreedyClique(consistent, options.starts)) {
+      accepted[members[k]] = true;
+    }
   }
   Verdict verdict = VerdictOf(accepted);
-  if (map) {
-    const PoseGraphSolver<Pose> solver(graph, 1);
-    *map = solver.Optimize(verdict.accepted, ConvergenceOptions(), minimized);
+  if (maps) {
+    *maps = ChainMaps<Pose>();
+    maps->chains = spans;
+    maps->estimates = graph.estimates();
+    for (const auto& [chain_pair, members] : groups) {
+      if (chain_pair.first == chain_pair.second) continue;
+      ChainPair<Pose> pair;
+      pair.first = chain_pair.first;
+      pair.second = chain_pair.second;
+      pair.candidates = members;
+      for (const int k : members) {
+        if (accepted[k]) pair.accepted.push_back(k);
+      }
+      pair.joined = !pair.accepted.empty();
+      if (pair.joined) {
+        // Placed by its first accepted loop: x_a · z = relative · x_b.
+        const Link<Pose>& l = links[pair.accepted.front()];
+        const auto& x = graph.estimates();
+        pair.relative = x[l.early] * l.z.pose * x[l.late].inverse();
+      }
+      maps->pairs.push_back(std::move(pair));
+    }
+    MinimizeMaps(graph, verdict.accepted, maps);
   }
   return verdict;
 }
 
 template Verdict VerifyWithPcm(const PoseGraph<Pose2>&, const PcmOptions&,
-                               std::vector<Pose2>*, MinimizeResult*);
+                               ChainMaps<Pose2>*);
 template Verdict VerifyWithPcm(const PoseGraph<Pose3>&, const PcmOptions&,
-                               std::vector<Pose3>*, MinimizeResult*);
+                               ChainMaps<Pose3>*);
 
 }  // namespace rrr

@@ -13,6 +13,7 @@
 #include "rrr/robust/dcs.h"
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
+#include "rrr/sim/false_loops.h"
 #include "rrr/sim/simulated_world.h"
 
 namespace rrr {
@@ -89,6 +90,50 @@ TEST(RobustMethods, RejectAGrossOutlierAndKeepTheRest) {
     EXPECT_GE(static_cast<double>(verdict.accepted.size()), 0.85 * loops)
         << method.name;
   }
+}
+
+TEST(RobustMethods, PcmJoinsTwoRobotsByTheLoopsBetweenThem) {
+  // Two robots that drive one city in turn, each an odometry chain from the
+  // identity, and 30 false loops between them. PCM's inter-robot test closes
+  // each cycle of two loops between the robots with the odometry of both;
+  // there is no odometry between the chains to compare them with.
+  WorldOptions options;
+  options.poses = 1200;
+  options.robots = 2;
+  options.false_loops = 0;
+  SimulatedWorld world = SimulateWorld(options);
+  FalseLoopOptions spoil;
+  spoil.count = 30;
+  spoil.between_chains = true;
+  const std::vector<int> added = AddFalseLoops(&world.graph, spoil);
+  const std::set<int> false_loops(added.begin(), added.end());
+  ChainMaps<Pose2> maps;
+  const Verdict verdict = VerifyWithPcm(world.graph, PcmOptions(), &maps);
+  ASSERT_EQ(maps.chains.size(), 2u);
+  ASSERT_EQ(maps.pairs.size(), 1u);
+  const int second = maps.chains[1].first;
+  int true_between = 0, true_kept = 0, false_kept = 0;
+  for (const int k : maps.pairs[0].candidates) {
+    const bool kept = std::binary_search(maps.pairs[0].accepted.begin(),
+                                         maps.pairs[0].accepted.end(), k);
+    if (false_loops.count(k)) {
+      false_kept += kept;
+    } else {
+      ++true_between;
+      true_kept += kept;
+    }
+  }
+  ASSERT_GT(true_between, 5);
+  EXPECT_LE(false_kept, 1);
+  EXPECT_GE(true_kept, 0.85 * true_between);
+  EXPECT_EQ(verdict.accepted.size() + verdict.rejected.size(),
+            world.graph.loops().size());
+  // Joined into one map, the second robot where it really started.
+  EXPECT_TRUE(maps.pairs[0].joined);
+  EXPECT_EQ(maps.map_of_chain, (std::vector<int>{0, 0}));
+  const Pose2 start = maps.estimates[0].between(maps.estimates[second]);
+  const Pose2 truth = world.truth[0].between(world.truth[second]);
+  EXPECT_LT((start.translation() - truth.translation()).norm(), 1.0);
 }
 
 }  // namespace

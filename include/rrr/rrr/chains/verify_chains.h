@@ -10,38 +10,16 @@
 #include "rrr/rrr/map/map_verifier.h"
 #include "rrr/rrr/options.h"
 #include "rrr/rrr/verdict.h"
-#include "rrr/solver/convergence.h"
+#include "rrr/solver/chain_maps.h"
 
 namespace rrr {
 
-// Two chains and the loops between them.
+// What VerifyChains decided: the verdict over every loop of the graph, and
+// the maps. With one chain, `estimates` is VerifyWithMap's maintained map and
+// `minimized` is empty.
 template <class Pose>
-struct ChainPair {
-  int first = 0;                // chain index
-  int second = 0;               // chain index, > first
-  std::vector<int> candidates;  // loop indices between them, ascending
-  std::vector<int> accepted;    // of those, ascending
-  std::vector<int> joined_by;   // the clusters that joined them
-  bool joined = false;
-  // When joined: the second chain's frame in the first's, so that
-  // x_first_frame = relative · x_second_frame.
-  Pose relative;
-};
-
-// What VerifyChains decided.
-template <class Pose>
-struct ChainsVerdict {
-  std::vector<ChainSpan> chains;
-  // The map each chain ended in: the lowest index of the chains joined with
-  // it (itself if joined with none). A map is in the frame of its lowest
-  // chain; chains never joined stay apart, each in its own frame.
-  std::vector<int> map_of_chain;
-  std::vector<ChainPair<Pose>> pairs;  // every pair with candidates
-  Verdict verdict;                     // over every loop of the graph
-  std::vector<Pose> estimates;         // every pose, in its map's frame
-  // With several chains: each map's final minimization, in the order of
-  // their lowest chains.
-  std::vector<MinimizeResult> minimized;
+struct ChainsVerdict : ChainMaps<Pose> {
+  Verdict verdict;
 };
 
 // Judges the loops of `graph`, which may hold several odometry chains
