@@ -36,16 +36,22 @@ enum class DecisionTest {
   // one less consistent with the rest goes).
   kOutweighed,
   // The links of the two clusters that joined two odometry chains: their
-  // minimal error with both chains' maps, the chains' relative pose free
+  // least error with both chains' maps held, the chains' relative pose free
   // (e·(n−1) dof; VerifyChains).
   kJoin,
   // A loop between two chains that no two agreeing clusters joined: nothing
   // relates their frames, so nothing can confirm it (no statistic).
   kApart,
+  // A cluster between two chains against their joined map, refused without
+  // a trial: a lower bound of Δ (first order: the largest over its links of
+  // a link's Mahalanobis error at the map's minimum with the covariance of
+  // one path of measurements between its ends, which the map's cannot
+  // exceed) is over the gate of its dof (VerifyChains, rule 3).
+  kMapBound,
 };
 
 // "not_judged", "alone", "own_link", "own", "map_link", "map",
-// "outweighed", "join" or "apart".
+// "outweighed", "join", "apart" or "map_bound".
 const char* ToString(DecisionTest test);
 
 // The test that put a candidate in its state, with what it compared.

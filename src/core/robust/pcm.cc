@@ -1,6 +1,5 @@
 #include "rrr/robust/pcm.h"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cstdint>
 #include <map>
@@ -11,35 +10,11 @@
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/chain_spans.h"
 #include "rrr/graph/odometry_chain.h"
+#include "rrr/graph/uncertain_pose.h"
 #include "rrr/rrr/chi_square.h"
 
 namespace rrr {
 namespace {
-
-// A relative pose with the covariance of its right perturbation.
-template <class Pose>
-struct Uncertain {
-  Pose pose;
-  typename Constraint<Pose>::Information cov;
-
-  Uncertain Inverse() const {
-    const typename Pose::Jacobian ad = pose.Adjoint();
-    return {pose.inverse(), ad * cov * ad.transpose()};
-  }
-  // this · other: x·Exp(ε₁)·y·Exp(ε₂) = xy·Exp(Ad(y⁻¹)ε₁ + ε₂).
-  Uncertain operator*(const Uncertain& other) const {
-    const typename Pose::Jacobian ad = other.pose.inverse().Adjoint();
-    return {pose * other.pose, ad * cov * ad.transpose() + other.cov};
-  }
-};
-
-// The condensed odometry from pose p to pose q (either order).
-template <class Pose>
-Uncertain<Pose> Odometry(const OdometryChain<Pose>& chain, int p, int q) {
-  if (p == q) return {Pose(), Constraint<Pose>::Information::Zero()};
-  if (p < q) return {chain.Relative(p, q), chain.CovarianceBetween(p, q)};
-  return Odometry(chain, q, p).Inverse();
-}
 
 // Rows of a symmetric bit matrix.
 class BitGraph {
@@ -102,7 +77,7 @@ std::vector<int> GreedyClique(const BitGraph& g, int starts) {
 template <class Pose>
 struct Link {
   int early, late;
-  Uncertain<Pose> z;
+  UncertainPose<Pose> z;
 };
 
 }  // namespace
@@ -117,7 +92,7 @@ Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
   }
   // The condensed odometry from pose p to pose q of chain c (either order).
   const auto odometry = [&](int c, int p, int q) {
-    return Odometry(chains[c], p - spans[c].first, q - spans[c].first);
+    return OdometryBetween(chains[c], p - spans[c].first, q - spans[c].first);
   };
   const double gate = ChiSquareQuantile(options.probability)(Pose::kDof);
   // The loops grouped by the pair of chains they join (a chain with itself
@@ -126,9 +101,7 @@ Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
   std::vector<Link<Pose>> links;
   for (size_t k = 0; k < graph.loops().size(); ++k) {
     const auto& e = graph.loops()[k];
-    Uncertain<Pose> z{
-        e.measurement,
-        e.information.ldlt().solve(Constraint<Pose>::Information::Identity())};
+    const UncertainPose<Pose> z = MeasurementOf(e);
     if (e.from < e.to) {
       links.push_back({e.from, e.to, z});
     } else {
@@ -147,12 +120,10 @@ Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
         const Link<Pose>& a = links[members[i]];
         const Link<Pose>& b = links[members[j]];
         // early_a -> late_a -> late_b -> early_b -> early_a: the identity.
-        const Uncertain<Pose> cycle = a.z * odometry(cb, a.late, b.late) *
-                                      b.z.Inverse() *
-                                      odometry(ca, b.early, a.early);
-        const typename Pose::Tangent r = cycle.pose.Log();
-        const double d2 = r.dot(cycle.cov.ldlt().solve(r));
-        if (d2 < gate) consistent.Connect(i, j);
+        const UncertainPose<Pose> cycle = a.z * odometry(cb, a.late, b.late) *
+                                          b.z.Inverse() *
+                                          odometry(ca, b.early, a.early);
+        if (cycle.SquaredDistance() < gate) consistent.Connect(i, j);
       }
     }
     for (const int k : GreedyClique(consistent, options.starts)) {

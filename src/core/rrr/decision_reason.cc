@@ -22,6 +22,8 @@ const char* ToString(DecisionTest test) {
       return "join";
     case DecisionTest::kApart:
       return "apart";
+    case DecisionTest::kMapBound:
+      return "map_bound";
   }
   return "unknown";
 }

@@ -38,20 +38,29 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //  2. Two chains are joined only by two independent clusters that agree
 //     (more than a clustering window apart on one chain at least: a revisit
 //     the clustering split, or one false group, is one piece of evidence):
-//     the second's links fit the map that the first has joined (their error
-//     at its estimate under their gate, which bounds what they would bring),
-//     and both together pass the gate of their links (e·(n1+n2−1) dof).
+//     one placement of the second chain's map in the first's frame fits the
+//     links of both, the two maps held as their own loops made them (the
+//     least error over the relative pose under the gate of e·(n1+n2−1)
+//     dof). Held, the maps cannot bend to absorb the difference between two
+//     far-apart false clusters (the odometry's drift between them would);
+//     placed, far-apart true revisits agree whatever that drift.
 //     Clusters are tried largest first. One false cluster never suffices;
 //     two false clusters must agree on the same relative pose. Pairs are
 //     judged in order of their candidates, most first; a pair whose chains
 //     are in one map already (through others) is judged by rule 3 against
 //     that map, every chain of it in its frame.
 //  3. Once joined, the other clusters between the two chains are judged
-//     against the joined map, largest first: accepted when the error their
-//     links bring is under the gate of their dof (their error at the map's
-//     estimate bounds it; else the map is minimized with them and moves to
-//     that minimum if they pass). A cluster of one link is held to the map
-//     scale, several links to the group scale.
+//     against the joined map, the best fitting first: accepted when the
+//     error their links bring is under the gate of their dof. Their error
+//     at the map's estimate bounds it from above: under the gate, they are
+//     accepted at once. A lower bound decides the other way without a
+//     trial (test "map_bound"): to first order, a link brings at least its
+//     Mahalanobis error at the map's minimum with the covariance of any one
+//     path of measurements between its ends (odometry and accepted loops
+//     between chains), as the map holds that path and more. Otherwise the
+//     map is minimized with them (kMostTrialIterations) and moves to that
+//     minimum if they pass. A cluster of one link is held to the map scale,
+//     several links to the group scale.
 //  4. Joined pairs make joined maps (chains joined through a third are in
 //     one map). Every map is minimized with its accepted loops. Loops
 //     between chains never joined are refused (test "apart").

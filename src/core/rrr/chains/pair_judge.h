@@ -5,14 +5,18 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <numeric>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "rrr/graph/chain_spans.h"
+#include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/pose_graph.h"
+#include "rrr/graph/uncertain_pose.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/clustering.h"
@@ -54,6 +58,9 @@ class PairJudge {
         pair_graph_(SubGraph(graph, spans, estimates,
                              Concat(accepted, pair->candidates))),
         solver_(pair_graph_, 1),
+        spans_(spans),
+        offsets_(Offsets(spans)),
+        odometry_(Odometries(graph, spans)),
         first_of_b_(spans.front().size()),
         second_(second),
         num_inside_(static_cast<int>(accepted.size())),
@@ -104,10 +111,8 @@ class PairJudge {
       joined = Minimize({}, &brought_, &pair_graph_.estimates());
     }
     for (size_t i = 0; i < agreeing.size() && !pair_->joined; ++i) {
-      const std::vector<Pose> one = Minimize(agreeing[i]->links);
-      for (size_t j = 0; j < agreeing.size() && !pair_->joined; ++j) {
-        if (j == i) continue;
-        TryJoin(*agreeing[i], *agreeing[j], one, &joined);
+      for (size_t j = i + 1; j < agreeing.size() && !pair_->joined; ++j) {
+        TryJoin(*agreeing[i], *agreeing[j], &joined);
       }
     }
     // Rule 3: the other clusters against the joined map; or none, apart.
@@ -144,6 +149,23 @@ class PairJudge {
                                  const std::vector<int>& y) {
     x.insert(x.end(), y.begin(), y.end());
     return x;
+  }
+  static std::vector<int> Offsets(const std::vector<ChainSpan>& spans) {
+    std::vector<int> offsets;
+    int next = 0;
+    for (const ChainSpan& span : spans) {
+      offsets.push_back(next);
+      next += span.size();
+    }
+    return offsets;
+  }
+  static std::vector<OdometryChain<Pose>> Odometries(
+      const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans) {
+    std::vector<OdometryChain<Pose>> chains;
+    for (const ChainSpan& span : spans) {
+      chains.push_back(ChainOf(SubGraph(graph, {span}, graph.estimates(), {})));
+    }
+    return chains;
   }
   static std::vector<int> Range(int begin, int end) {
     std::vector<int> r(end - begin);
@@ -282,29 +304,92 @@ class PairJudge {
     return false;
   }
 
-  // Rule 2 for `first` (minimized alone to `one`) and `second`: joins the
-  // chains and sets `*joined` to the joined map if they agree.
+  // The least error of `links` (into pair_->candidates) with both chains'
+  // maps held as they are and only the second's frame free, and in
+  // `*relative` that frame in the first's (Gauss–Newton from the placement
+  // by the first link, while the error decreases).
+  double RigidError(const std::vector<int>& links, Pose* relative) const {
+    const std::vector<Pose>& x = pair_graph_.estimates();
+    const auto edge = [&](int k) -> const Constraint<Pose>& {
+      return pair_graph_.loops()[num_inside_ + k];
+    };
+    // Orients a link from the first chain to the second.
+    const auto ends = [&](const Constraint<Pose>& e) {
+      return e.from < first_of_b_
+                 ? std::make_tuple(e.from, e.to, e.measurement)
+                 : std::make_tuple(e.to, e.from, e.measurement.inverse());
+    };
+    const auto [a0, b0, z0] = ends(edge(links.front()));
+    Pose m = x[a0] * z0 * x[b0].inverse();
+    const auto moved = [&](int p, const Pose& frame) {
+      return p < first_of_b_ ? x[p] : frame * x[p];
+    };
+    const auto error = [&](const Pose& frame) {
+      double sum = 0.0;
+      for (const int k : links) {
+        const Constraint<Pose>& e = edge(k);
+        const typename Pose::Tangent r = EdgeResidual(
+            e.measurement, moved(e.from, frame), moved(e.to, frame));
+        sum += r.dot(e.information * r);
+      }
+      return sum;
+    };
+    double chi2 = error(m);
+    const ConvergenceOptions convergence;
+    for (int it = 0; it < convergence.max_iterations; ++it) {
+      typename Pose::Jacobian h = Pose::Jacobian::Zero();
+      typename Pose::Tangent g = Pose::Tangent::Zero();
+      for (const int k : links) {
+        const Constraint<Pose>& e = edge(k);
+        typename Pose::Jacobian ji, jj;
+        const typename Pose::Tangent r = EdgeResidualAndJacobians(
+            e.measurement, moved(e.from, m), moved(e.to, m), &ji, &jj);
+        // The second chain's pose b moves as m·Exp(δ)·b = m·b·Exp(Ad(b⁻¹)δ).
+        const bool second_is_to = e.from < first_of_b_;
+        const Pose& b = x[second_is_to ? e.to : e.from];
+        const typename Pose::Jacobian j =
+            (second_is_to ? jj : ji) * b.inverse().Adjoint();
+        h += j.transpose() * e.information * j;
+        g += j.transpose() * e.information * r;
+      }
+      const Pose next = m * Pose::Exp(-h.ldlt().solve(g));
+      const double next_chi2 = error(next);
+      if (!(next_chi2 < chi2)) break;
+      const bool small =
+          chi2 - next_chi2 < convergence.relative_decrease * chi2;
+      m = next;
+      chi2 = next_chi2;
+      if (small) break;
+    }
+    *relative = m;
+    return chi2;
+  }
+
+  // Rule 2 for `first` and `second`: joins the chains and sets `*joined` to
+  // the joined map if they agree on one placement of the second chain's
+  // map in the first's frame (RigidError: no bending of either map, which
+  // could make far-apart clusters agree by absorbing the difference in
+  // their drift).
   void TryJoin(const PairCluster& first, const PairCluster& second,
-               const std::vector<Pose>& one, std::vector<Pose>* joined) {
+               std::vector<Pose>* joined) {
     if (!Independent(first.links, second.links)) return;
-    const int e = Pose::kDof;
-    const double fit_error = ErrorAt(second.links, one);
-    const int n2 = static_cast<int>(second.links.size());
-    if (!(fit_error < group_scale_ * chi2_(e * n2))) return;
     const std::vector<int> both = Concat(first.links, second.links);
-    double brought;
-    std::vector<Pose> x = Minimize(both, &brought, &one);
-    const int dof = e * (static_cast<int>(both.size()) - 1);
+    const int dof = Pose::kDof * (static_cast<int>(both.size()) - 1);
     const double gate = group_scale_ * chi2_(dof);
-    if (!(brought < gate)) return;
+    Pose relative;
+    const double rigid = RigidError(both, &relative);
+    if (!(rigid < gate)) return;
+    std::vector<Pose> start = pair_graph_.estimates();
+    for (size_t p = first_of_b_; p < start.size(); ++p) {
+      start[p] = relative * start[p];
+    }
     pair_->joined = true;
     pair_->joined_by = {first.index, second.index};
     in_map_ = both;
-    brought_ = brought;
+    *joined = Minimize(both, &brought_, &start);
     for (const int k : both) {
-      Decide(k, true, {DecisionTest::kJoin, brought, gate, group_scale_, dof});
+      Decide(k, true, {DecisionTest::kJoin, rigid, gate, group_scale_, dof});
     }
-    *joined = std::move(x);
   }
 
   // Rule 3 for the clusters `rest` (their open links). Every cluster whose
@@ -339,12 +424,19 @@ class PairJudge {
       }
       if (left == 0) break;
       DecisionReason reason = FitReason(rest[next], *joined);
+      open[next] = false;
+      --left;
+      const double least = LeastBrought(rest[next], *joined);
+      if (least >= reason.gate) {
+        reason.test = DecisionTest::kMapBound;
+        reason.statistic = least;
+        for (const int k : rest[next]) Decide(k, false, reason);
+        continue;
+      }
       double with;
       std::vector<Pose> x = Minimize(Concat(in_map_, rest[next]), &with, joined,
                                      {kMostTrialIterations, 1e-9});
       reason.statistic = with - brought_;
-      open[next] = false;
-      --left;
       if (reason.statistic < reason.gate) {
         Accept(rest[next], reason);
         *joined = std::move(x);
@@ -353,6 +445,107 @@ class PairJudge {
         for (const int k : rest[next]) Decide(k, false, reason);
       }
     }
+  }
+
+  // The chain (index into spans_) of pose `p` of pair_graph_.
+  int SpanAt(int p) const {
+    return static_cast<int>(
+        std::upper_bound(offsets_.begin(), offsets_.end(), p) -
+        offsets_.begin() - 1);
+  }
+
+  // The odometry of chain `s` from its pose `p` to its pose `q` (poses of
+  // pair_graph_).
+  UncertainPose<Pose> Odometry(int s, int p, int q) const {
+    return OdometryBetween(odometry_[s], p - offsets_[s], q - offsets_[s]);
+  }
+
+  // Paths of measurements from pose `p` to pose `q` of pair_graph_
+  // through the loops `hops` (loops of pair_graph_ between chains), over the
+  // fewest chains: into the last chain, one path through each hop that
+  // enters it; before, each chain left by the hop nearest (in poses) to
+  // where the path entered it. None if no hops lead from p's chain to q's.
+  std::vector<UncertainPose<Pose>> PathsBetween(
+      int p, int q, const std::vector<int>& hops) const {
+    const int from = SpanAt(p), to = SpanAt(q);
+    std::vector<int> parent(spans_.size(), -1);
+    parent[from] = from;
+    std::vector<int> queue{from};
+    for (size_t n = 0; n < queue.size() && parent[to] < 0; ++n) {
+      for (const int k : hops) {
+        const auto& e = pair_graph_.loops()[k];
+        for (const auto& [u, v] : {std::pair(SpanAt(e.from), SpanAt(e.to)),
+                                   std::pair(SpanAt(e.to), SpanAt(e.from))}) {
+          if (u == queue[n] && parent[v] < 0) {
+            parent[v] = u;
+            queue.push_back(v);
+          }
+        }
+      }
+    }
+    if (parent[to] < 0) return {};
+    std::vector<int> chains{to};
+    while (chains.back() != from) chains.push_back(parent[chains.back()]);
+    std::reverse(chains.begin(), chains.end());
+    // The hops from chain u to chain v: (its pose on u, on v, measurement).
+    const auto hops_between = [&](int u, int v) {
+      std::vector<std::tuple<int, int, UncertainPose<Pose>>> out;
+      for (const int k : hops) {
+        const auto& e = pair_graph_.loops()[k];
+        if (SpanAt(e.from) == u && SpanAt(e.to) == v) {
+          out.emplace_back(e.from, e.to, MeasurementOf(e));
+        } else if (SpanAt(e.to) == u && SpanAt(e.from) == v) {
+          out.emplace_back(e.to, e.from, MeasurementOf(e).Inverse());
+        }
+      }
+      return out;
+    };
+    UncertainPose<Pose> path;
+    int at = p;
+    for (size_t n = 0; n + 2 < chains.size(); ++n) {
+      const auto next = hops_between(chains[n], chains[n + 1]);
+      const auto nearest = std::min_element(
+          next.begin(), next.end(), [at](const auto& x, const auto& y) {
+            return std::abs(std::get<0>(x) - at) <
+                   std::abs(std::get<0>(y) - at);
+          });
+      path = path * Odometry(chains[n], at, std::get<0>(*nearest)) *
+             std::get<2>(*nearest);
+      at = std::get<1>(*nearest);
+    }
+    const int last = chains[chains.size() - 2];
+    std::vector<UncertainPose<Pose>> paths;
+    for (const auto& [leave, enter, z] : hops_between(last, to)) {
+      paths.push_back(path * Odometry(last, at, leave) * z *
+                      Odometry(to, enter, q));
+    }
+    return paths;
+  }
+
+  // A lower bound of what `links` would bring to the joined map, at its
+  // minimum `x`, to first order. The links together bring at least what
+  // each brings alone; one link brings its squared Mahalanobis error at x
+  // with the covariance of the map's relative pose of its ends, which the
+  // covariance along any one path of measurements between them bounds from
+  // above (the map holds that path and more): odometry, and the accepted
+  // loops between chains (PathsBetween). 0 while no path leads.
+  double LeastBrought(const std::vector<int>& links,
+                      const std::vector<Pose>& x) const {
+    std::vector<int> hops = Links(in_map_);
+    for (const int k : inside_) {
+      const auto& e = pair_graph_.loops()[k];
+      if (SpanAt(e.from) != SpanAt(e.to)) hops.push_back(k);
+    }
+    double least = 0.0;
+    for (const int k : Links(links)) {
+      const auto& e = pair_graph_.loops()[k];
+      for (const UncertainPose<Pose>& path : PathsBetween(e.from, e.to, hops)) {
+        const UncertainPose<Pose> map{x[e.from].between(x[e.to]), path.cov};
+        least = std::max(least,
+                         (map.Inverse() * MeasurementOf(e)).SquaredDistance());
+      }
+    }
+    return least;
   }
 
   void Accept(const std::vector<int>& links, const DecisionReason& reason) {
@@ -394,6 +587,9 @@ class PairJudge {
   const std::vector<Pose>& estimates_;
   const PoseGraph<Pose> pair_graph_;
   const PoseGraphSolver<Pose> solver_;
+  const std::vector<ChainSpan> spans_;  // of graph_, that pair_graph_ holds
+  const std::vector<int> offsets_;      // each one's first pose in it
+  const std::vector<OdometryChain<Pose>> odometry_;  // each one's
   const int first_of_b_;    // in pair_graph_, when it holds the two chains
   const ChainSpan second_;  // the pair's second chain, in graph_
   const int num_inside_;

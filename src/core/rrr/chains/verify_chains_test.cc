@@ -10,6 +10,7 @@
 #include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/sim/false_loops.h"
 #include "rrr/sim/simulated_world.h"
+#include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
 namespace {
@@ -122,6 +123,38 @@ TEST(VerifyChains, TwoSessionsOfOneWorldAreJoinedByTheirLoops) {
   }
 }
 
+TEST(VerifyChains, RevisitsFarApartJoinSessionsWhateverTheDriftBetweenThem) {
+  // Two sessions whose 24 loops between them make five revisits far apart
+  // (up to 500 poses on one chain), with 200 false loops between them. Each
+  // session's map holds by its own loops; the odometry's drift between the
+  // revisits does not: placed by one revisit, the other revisits' links
+  // miss the second map by far more than their noise (the 24 would be left
+  // apart by a rule that required that), but one placement of the second
+  // map fits them all.
+  const SimulatedWorld world = SimulateWorld(Grid(1000, 4));
+  const int cut = 500;
+  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
+  const size_t true_loops = two.loops().size();
+  FalseLoopOptions spoil;
+  spoil.count = 200;
+  spoil.between_chains = true;
+  spoil.seed = 3;
+  AddFalseLoops(&two, spoil);
+  const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
+  ASSERT_EQ(v.pairs.size(), 1u);
+  EXPECT_TRUE(v.pairs[0].joined);
+  int true_between = 0, false_kept = 0;
+  for (const int k : v.pairs[0].candidates) {
+    true_between += static_cast<size_t>(k) < true_loops;
+  }
+  for (const int k : v.pairs[0].accepted) {
+    false_kept += static_cast<size_t>(k) >= true_loops;
+  }
+  EXPECT_EQ(true_between, 24);
+  EXPECT_EQ(false_kept, 0);
+  EXPECT_EQ(v.pairs[0].accepted.size(), 24u);
+}
+
 TEST(VerifyChains, ThreeSessionsMakeOneMapWithTheLoopsOfEveryPair) {
   // The pairs judged after two joins hold their chains in one map already;
   // their loops are judged against it, whichever chains lie between them.
@@ -141,6 +174,55 @@ TEST(VerifyChains, ThreeSessionsMakeOneMapWithTheLoopsOfEveryPair) {
     const Pose2 truth = world.truth[cut - 1].between(world.truth[cut]);
     EXPECT_LT((step.translation() - truth.translation()).norm(), 0.3) << cut;
   }
+}
+
+TEST(VerifyChains, ALoopRefusedByTheBoundIsOneAFullMinimizationRefuses) {
+  // Two sessions of one world with 200 false loops between them. Once the
+  // sessions are joined, most false loops are refused by the lower bound of
+  // what they would bring (test "map_bound"), without a trial: each must be
+  // one that minimizing the whole joined map with it refuses too.
+  const SimulatedWorld world = SimulateWorld(Grid(1200, 3));
+  const int cut = 600;
+  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
+  const size_t true_loops = two.loops().size();
+  FalseLoopOptions spoil;
+  spoil.count = 200;
+  spoil.between_chains = true;
+  spoil.seed = 3;
+  AddFalseLoops(&two, spoil);
+  const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
+  ASSERT_EQ(v.pairs.size(), 1u);
+  ASSERT_TRUE(v.pairs[0].joined);
+  int true_between = 0, true_kept = 0;
+  for (const int k : v.pairs[0].candidates) {
+    if (static_cast<size_t>(k) >= true_loops) {
+      EXPECT_FALSE(std::binary_search(v.verdict.accepted.begin(),
+                                      v.verdict.accepted.end(), k))
+          << "false loop " << k << " accepted";
+      continue;
+    }
+    ++true_between;
+    true_kept += std::binary_search(v.verdict.accepted.begin(),
+                                    v.verdict.accepted.end(), k);
+  }
+  EXPECT_GE(true_kept, 0.9 * true_between);
+  const PoseGraphSolver<Pose2> solver(two, 1);
+  MinimizeResult without;
+  solver.Optimize(v.verdict.accepted, ConvergenceOptions{}, &without,
+                  &v.estimates);
+  int bounded = 0;
+  for (const int k : v.pairs[0].candidates) {
+    const DecisionReason& r = v.verdict.reasons[k];
+    if (r.test != DecisionTest::kMapBound || bounded == 20) continue;
+    ++bounded;
+    EXPECT_GE(r.statistic, r.gate);
+    std::vector<int> with = v.verdict.accepted;
+    with.push_back(k);
+    MinimizeResult result;
+    solver.Optimize(with, ConvergenceOptions{}, &result, &v.estimates);
+    EXPECT_GT(result.final_chi2 - without.final_chi2, r.gate) << k;
+  }
+  EXPECT_EQ(bounded, 20);
 }
 
 TEST(VerifyChains, RobotsThatNeverMeetAreNeverJoinedByFalseLoops) {
