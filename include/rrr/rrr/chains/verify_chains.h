@@ -46,9 +46,12 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     placed, far-apart true revisits agree whatever that drift.
 //     Clusters are tried largest first. One false cluster never suffices;
 //     two false clusters must agree on the same relative pose. Pairs are
-//     judged in order of their candidates, most first; a pair whose chains
-//     are in one map already (through others) is judged by rule 3 against
-//     that map, every chain of it in its frame.
+//     judged in order of that evidence (the links of the two clusters that
+//     would join them apart), most first, then of their candidates; a pair
+//     whose chains are in one map already (through others) is judged by
+//     rule 3 against that map, every chain of it in its frame. So a join on
+//     less evidence that contradicts joins on more is refused, whichever
+//     pair has more candidates.
 //  3. Once joined, the other clusters between the two chains are judged
 //     against the joined map, the best fitting first: accepted when the
 //     error their links bring is under the gate of their dof. Their error

@@ -92,28 +92,26 @@ class PairJudge {
     }
   }
 
-  // Judges the pair; `one_map`: its chains are joined through others
-  // already, and their map is the joined map of rule 3.
-  void Judge(bool one_map) {
-    // Rule 1: each cluster's own consistency.
-    std::vector<const PairCluster*> agreeing;
-    for (PairCluster& c : clusters_) {
-      if (c.links.size() >= 2 && KeepAgreeing(&c)) agreeing.push_back(&c);
-    }
-    std::stable_sort(agreeing.begin(), agreeing.end(),
-                     [](const PairCluster* x, const PairCluster* y) {
-                       return x->links.size() > y->links.size();
-                     });
-    // Rule 2: two clusters that agree join the chains.
-    std::vector<Pose> joined;
-    if (one_map) {
-      pair_->joined = true;
-      joined = Minimize({}, &brought_, &pair_graph_.estimates());
-    }
+  // Rules 1 and 2 for a pair whose chains are apart: returns the number of
+  // links of the two clusters that join them (its evidence), 0 if none do.
+  size_t Join() {
+    const std::vector<const PairCluster*> agreeing = Agreeing();
     for (size_t i = 0; i < agreeing.size() && !pair_->joined; ++i) {
       for (size_t j = i + 1; j < agreeing.size() && !pair_->joined; ++j) {
-        TryJoin(*agreeing[i], *agreeing[j], &joined);
+        TryJoin(*agreeing[i], *agreeing[j]);
       }
+    }
+    return pair_->joined ? in_map_.size() : 0;
+  }
+
+  // Judges the pair: after Join() if its chains are apart; `one_map`: they
+  // are joined through others already (rule 1, then rule 3 against that
+  // map).
+  void Judge(bool one_map) {
+    if (one_map) {
+      Agreeing();
+      pair_->joined = true;
+      joined_ = Minimize({}, &brought_, &pair_graph_.estimates());
     }
     // Rule 3: the other clusters against the joined map; or none, apart.
     std::vector<std::vector<int>> rest;
@@ -130,12 +128,12 @@ class PairJudge {
       }
       return;
     }
-    JudgeAgainstJoined(rest, &joined);
+    JudgeAgainstJoined(rest);
     // Joined through others, the pair's own loops join it if any is kept.
     if (one_map) pair_->joined = !pair_->accepted.empty();
     if (!one_map) {
       pair_->relative =
-          joined[first_of_b_] * pair_graph_.estimates()[first_of_b_].inverse();
+          joined_[first_of_b_] * pair_graph_.estimates()[first_of_b_].inverse();
     }
   }
 
@@ -144,6 +142,20 @@ class PairJudge {
     int index;               // into verdict_->clusters
     std::vector<int> links;  // indices into pair_->candidates, kept so far
   };
+
+  // Rule 1: the clusters of at least two links that agree with themselves,
+  // largest first.
+  std::vector<const PairCluster*> Agreeing() {
+    std::vector<const PairCluster*> agreeing;
+    for (PairCluster& c : clusters_) {
+      if (c.links.size() >= 2 && KeepAgreeing(&c)) agreeing.push_back(&c);
+    }
+    std::stable_sort(agreeing.begin(), agreeing.end(),
+                     [](const PairCluster* x, const PairCluster* y) {
+                       return x->links.size() > y->links.size();
+                     });
+    return agreeing;
+  }
 
   static std::vector<int> Concat(std::vector<int> x,
                                  const std::vector<int>& y) {
@@ -365,13 +377,12 @@ class PairJudge {
     return chi2;
   }
 
-  // Rule 2 for `first` and `second`: joins the chains and sets `*joined` to
+  // Rule 2 for `first` and `second`: joins the chains and sets joined_ to
   // the joined map if they agree on one placement of the second chain's
   // map in the first's frame (RigidError: no bending of either map, which
   // could make far-apart clusters agree by absorbing the difference in
   // their drift).
-  void TryJoin(const PairCluster& first, const PairCluster& second,
-               std::vector<Pose>* joined) {
+  void TryJoin(const PairCluster& first, const PairCluster& second) {
     if (!Independent(first.links, second.links)) return;
     const std::vector<int> both = Concat(first.links, second.links);
     const int dof = Pose::kDof * (static_cast<int>(both.size()) - 1);
@@ -386,20 +397,19 @@ class PairJudge {
     pair_->joined = true;
     pair_->joined_by = {first.index, second.index};
     in_map_ = both;
-    *joined = Minimize(both, &brought_, &start);
+    joined_ = Minimize(both, &brought_, &start);
     for (const int k : both) {
       Decide(k, true, {DecisionTest::kJoin, rigid, gate, group_scale_, dof});
     }
   }
 
   // Rule 3 for the clusters `rest` (their open links). Every cluster whose
-  // links' error at the joined map's estimate `*joined` is under their gate
+  // links' error at the joined map's estimate joined_ is under their gate
   // is accepted (that error bounds what they bring) and the map minimized
   // with them, until none fits; then the best fitting one is tried (the map
   // minimized with it: accepted if what it brings is under the gate), and
   // so on until every cluster is decided.
-  void JudgeAgainstJoined(const std::vector<std::vector<int>>& rest,
-                          std::vector<Pose>* joined) {
+  void JudgeAgainstJoined(const std::vector<std::vector<int>>& rest) {
     std::vector<bool> open(rest.size(), true);
     for (size_t left = rest.size(); left > 0;) {
       bool fitted = false;
@@ -407,7 +417,7 @@ class PairJudge {
       size_t next = 0;
       for (size_t c = 0; c < rest.size(); ++c) {
         if (!open[c]) continue;
-        const DecisionReason reason = FitReason(rest[c], *joined);
+        const DecisionReason reason = FitReason(rest[c], joined_);
         if (reason.statistic < reason.gate) {
           Accept(rest[c], reason);
           open[c] = false;
@@ -419,14 +429,14 @@ class PairJudge {
         }
       }
       if (fitted) {
-        *joined = Minimize(in_map_, &brought_, joined);
+        joined_ = Minimize(in_map_, &brought_, &joined_);
         continue;
       }
       if (left == 0) break;
-      DecisionReason reason = FitReason(rest[next], *joined);
+      DecisionReason reason = FitReason(rest[next], joined_);
       open[next] = false;
       --left;
-      const double least = LeastBrought(rest[next], *joined);
+      const double least = LeastBrought(rest[next], joined_);
       if (least >= reason.gate) {
         reason.test = DecisionTest::kMapBound;
         reason.statistic = least;
@@ -434,12 +444,12 @@ class PairJudge {
         continue;
       }
       double with;
-      std::vector<Pose> x = Minimize(Concat(in_map_, rest[next]), &with, joined,
-                                     {kMostTrialIterations, 1e-9});
+      std::vector<Pose> x = Minimize(Concat(in_map_, rest[next]), &with,
+                                     &joined_, {kMostTrialIterations, 1e-9});
       reason.statistic = with - brought_;
       if (reason.statistic < reason.gate) {
         Accept(rest[next], reason);
-        *joined = std::move(x);
+        joined_ = std::move(x);
         brought_ = with;
       } else {
         for (const int k : rest[next]) Decide(k, false, reason);
@@ -584,7 +594,7 @@ class PairJudge {
   }
 
   const PoseGraph<Pose>& graph_;
-  const std::vector<Pose>& estimates_;
+  const std::vector<Pose> estimates_;  // of every pose of graph_
   const PoseGraph<Pose> pair_graph_;
   const PoseGraphSolver<Pose> solver_;
   const std::vector<ChainSpan> spans_;  // of graph_, that pair_graph_ holds
@@ -603,8 +613,9 @@ class PairJudge {
   Verdict* verdict_;
   std::vector<PairCluster> clusters_;
   std::map<int, bool> decided_;
-  std::vector<int> in_map_;  // the links between the chains accepted so far
-  double brought_ = 0.0;     // the error they bring to the two maps
+  std::vector<int> in_map_;   // the links between the chains accepted so far
+  std::vector<Pose> joined_;  // the joined map, once joined
+  double brought_ = 0.0;      // the error they bring to the two maps
 };
 
 }  // namespace rrr

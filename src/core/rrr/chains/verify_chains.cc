@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
+#include <tuple>
 #include <utility>
 
 #include "pair_judge.h"
@@ -75,56 +76,79 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
     for (const int k : v.rejected) verdict.rejected.push_back(inside[c][k]);
   }
 
-  // Each pair, with both chains at their own maps.
+  // The judge of the pair of chains a < b with `candidates`: both at their
+  // own maps, with their accepted loops; or, if `frames` is given (each
+  // chain's frame in their map's), every chain `in_map` in its frame with
+  // every accepted loop of the map.
   DisjointSets maps(num_chains);  // joined chains; a map is its lowest chain
-  // The pairs with the most candidates first: a pair with few may then be
-  // joined through others.
-  std::vector<std::pair<std::pair<int, int>, std::vector<int>>> ordered(
-      between.begin(), between.end());
-  std::stable_sort(ordered.begin(), ordered.end(),
-                   [](const auto& x, const auto& y) {
-                     return x.second.size() > y.second.size();
-                   });
-  for (const auto& chains_and_candidates : ordered) {
-    const int a = chains_and_candidates.first.first;
-    const int b = chains_and_candidates.first.second;
-    ChainPair<Pose> pair;
-    pair.first = a;
-    pair.second = b;
-    pair.candidates = chains_and_candidates.second;
-    // Two chains apart: each at its own map, with its accepted loops; in one
-    // map already: every chain of it in its frame, with every accepted loop.
-    const int map = maps.Find(a);
-    const bool one_map = map == maps.Find(b);
-    const std::vector<Pose> frames = FramesIn(out.pairs, num_chains, map);
+  const auto judge_of = [&](ChainPair<Pose>* pair,
+                            const std::vector<Pose>* frames, Verdict* v) {
+    const int a = pair->first, b = pair->second;
+    const auto in = [&](int c) {
+      return frames ? maps.Find(c) == maps.Find(a) : c == a || c == b;
+    };
     std::vector<ChainSpan> spans;
     std::vector<Pose> placed = out.estimates;
-    std::vector<int> accepted;
     for (int c = 0; c < num_chains; ++c) {
-      if (one_map ? maps.Find(c) != map : c != a && c != b) continue;
+      if (!in(c)) continue;
       spans.push_back(out.chains[c]);
-      for (int p = out.chains[c].first; one_map && p <= out.chains[c].last;
+      for (int p = out.chains[c].first; frames && p <= out.chains[c].last;
            ++p) {
-        placed[p] = frames[c] * out.estimates[p];
+        placed[p] = (*frames)[c] * out.estimates[p];
       }
     }
+    std::vector<int> accepted;
     for (const int k : verdict.accepted) {
       const auto& e = graph.loops()[k];
       const int from = ChainHolding(out.chains, e.from);
       const int to = ChainHolding(out.chains, e.to);
-      const auto in = [&](int c) {
-        return one_map ? maps.Find(c) == map : c == a || c == b;
-      };
-      if (in(from) && in(to) && (one_map || from == to)) accepted.push_back(k);
+      if (in(from) && in(to) && (frames || from == to)) accepted.push_back(k);
     }
-    PairJudge<Pose> judge(
-        graph, spans, out.chains[b], placed, accepted, &pair, options,
+    return PairJudge<Pose>(
+        graph, spans, out.chains[b], placed, accepted, pair, options,
         std::max(chain_stats[a].group_noise_scale,
                  chain_stats[b].group_noise_scale),
-        std::max(chain_stats[a].noise_scale, chain_stats[b].noise_scale),
-        &verdict);
-    judge.Judge(one_map);
-    if (one_map) pair.relative = frames[a].inverse() * frames[b];
+        std::max(chain_stats[a].noise_scale, chain_stats[b].noise_scale), v);
+  };
+
+  // The pairs in order of the evidence that would join them apart (rules
+  // 1–2: the links of the two clusters that join them), most first, then of
+  // their candidates: a join on more evidence is made first, and a pair
+  // whose chains it puts in one map with others is judged against that map
+  // (rule 3), so that a weaker join that contradicts it is refused instead
+  // of deciding against it.
+  std::vector<std::tuple<size_t, ChainPair<Pose>>> ordered;
+  for (const auto& [chains, candidates] : between) {
+    ChainPair<Pose> pair;
+    pair.first = chains.first;
+    pair.second = chains.second;
+    pair.candidates = candidates;
+    ChainPair<Pose> trial = pair;
+    Verdict scratch;
+    scratch.cluster_of_loop.resize(graph.loops().size());
+    scratch.reasons.resize(graph.loops().size());
+    ordered.emplace_back(judge_of(&trial, nullptr, &scratch).Join(),
+                         std::move(pair));
+  }
+  std::stable_sort(ordered.begin(), ordered.end(),
+                   [](const auto& x, const auto& y) {
+                     const auto& [ex, px] = x;
+                     const auto& [ey, py] = y;
+                     return std::make_pair(ex, px.candidates.size()) >
+                            std::make_pair(ey, py.candidates.size());
+                   });
+  for (auto& [evidence, pair] : ordered) {
+    const int a = pair.first, b = pair.second;
+    const int map = maps.Find(a);
+    if (map == maps.Find(b)) {
+      const std::vector<Pose> frames = FramesIn(out.pairs, num_chains, map);
+      judge_of(&pair, &frames, &verdict).Judge(true);
+      pair.relative = frames[a].inverse() * frames[b];
+    } else {
+      PairJudge<Pose> judge = judge_of(&pair, nullptr, &verdict);
+      judge.Join();
+      judge.Judge(false);
+    }
     std::sort(pair.accepted.begin(), pair.accepted.end());
     if (pair.joined) maps.Join(a, b);
     out.pairs.push_back(std::move(pair));

@@ -176,6 +176,89 @@ TEST(VerifyChains, ThreeSessionsMakeOneMapWithTheLoopsOfEveryPair) {
   }
 }
 
+TEST(VerifyChains, AJoinThatStrongerJoinsContradictIsRefused) {
+  // Three sessions of one world; the first two never revisit each other's
+  // places, but between them come about 80 random false loops and two false
+  // revisits of two links each that agree on one wrong placement of the
+  // second session (the same look-alike offset twice, as in a building
+  // whose floors repeat): alone they would join the two wrongly, and that
+  // pair has the most candidates. The joins of the third session with each
+  // of the others rest on more evidence: made first, they put all three in
+  // one map, and the false revisits are judged against it and refused.
+  const SimulatedWorld world = SimulateWorld(Grid(1500, 3));
+  const std::vector<int> cuts = {500, 1000};
+  const PoseGraph<Pose2> cut = CutAt(world.graph, cuts);
+  const auto first_two = [&](const Constraint<Pose2>& e) {
+    return std::min(e.from, e.to) < cuts[0] &&
+           std::max(e.from, e.to) >= cuts[0] &&
+           std::max(e.from, e.to) < cuts[1];
+  };
+  PoseGraph<Pose2> three;
+  for (int p = 0; p < cut.num_poses(); ++p) {
+    three.AddPose(cut.ids()[p], cut.estimates()[p]);
+  }
+  for (const auto& e : cut.odometry()) three.AddEdge(e);
+  for (const auto& e : cut.loops()) {
+    if (!first_two(e)) three.AddEdge(e);
+  }
+  const size_t true_loops = three.loops().size();
+  // The false revisits agree exactly with each session's own map.
+  std::vector<Pose2> maps(three.num_poses());
+  for (const ChainSpan& span : ChainSpansOf(three)) {
+    std::vector<int> inside;
+    for (size_t k = 0; k < three.loops().size(); ++k) {
+      if (span.Holds(three.loops()[k].from) &&
+          span.Holds(three.loops()[k].to)) {
+        inside.push_back(static_cast<int>(k));
+      }
+    }
+    std::vector<Pose2> map;
+    VerifyWithMap(SubGraph(three, {span}, three.estimates(), inside), Options(),
+                  &map);
+    std::copy(map.begin(), map.end(), maps.begin() + span.first);
+  }
+  const Pose2 look_alike(6.0, -4.0, 0.4);
+  for (const auto& [i, j] : {std::pair(100, 700), std::pair(130, 730)}) {
+    for (int k = 0; k < 2; ++k) {
+      Constraint<Pose2> e;
+      e.from = i + k;
+      e.to = j + k;
+      e.measurement = maps[e.from].between(look_alike * maps[e.to]);
+      e.information = three.loops().front().information;
+      three.AddEdge(e);
+    }
+  }
+  // Random false loops between any two sessions; those between the first
+  // two kept.
+  PoseGraph<Pose2> drawn = three;
+  FalseLoopOptions spoil;
+  spoil.count = 240;
+  spoil.between_chains = true;
+  spoil.seed = 4;
+  const size_t before = drawn.loops().size();
+  AddFalseLoops(&drawn, spoil);
+  for (size_t k = before; k < drawn.loops().size(); ++k) {
+    if (first_two(drawn.loops()[k])) three.AddEdge(drawn.loops()[k]);
+  }
+  const ChainsVerdict<Pose2> v = VerifyChains(three, Options());
+  ASSERT_EQ(v.chains.size(), 3u);
+  ASSERT_EQ(v.pairs.size(), 3u);
+  EXPECT_GT(v.pairs[0].candidates.size(), v.pairs[2].candidates.size());
+  EXPECT_EQ(v.map_of_chain, (std::vector<int>{0, 0, 0}));
+  EXPECT_TRUE(v.pairs[0].accepted.empty());
+  for (const ChainPair<Pose2>& pair : v.pairs) {
+    if (pair.first == 0 && pair.second == 1) continue;
+    EXPECT_GE(pair.accepted.size(), 0.9 * pair.candidates.size())
+        << pair.first << "-" << pair.second;
+  }
+  // Every session where it was, relative to the first.
+  for (const int p : {cuts[0], cuts[1]}) {
+    const Pose2 start = v.estimates[0].between(v.estimates[p]);
+    const Pose2 truth = world.truth[0].between(world.truth[p]);
+    EXPECT_LT((start.translation() - truth.translation()).norm(), 1.0) << p;
+  }
+}
+
 TEST(VerifyChains, ALoopRefusedByTheBoundIsOneAFullMinimizationRefuses) {
   // Two sessions of one world with 200 false loops between them. Once the
   // sessions are joined, most false loops are refused by the lower bound of
