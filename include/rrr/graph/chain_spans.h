@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/pose_graph.h"
 
 namespace rrr {
@@ -40,6 +41,12 @@ PoseGraph<Pose> SubGraph(const PoseGraph<Pose>& graph,
 
 // The poses of `spans`, in order.
 std::vector<int> Poses(const std::vector<ChainSpan>& spans);
+
+// The odometry of each of `spans` (chains of `graph`) condensed (ChainOf),
+// its poses counted from the span's first.
+template <class Pose>
+std::vector<OdometryChain<Pose>> OdometryOf(
+    const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans);
 
 }  // namespace rrr
 

@@ -56,6 +56,21 @@ PoseGraph<Pose> SubGraph(const PoseGraph<Pose>& graph,
   return sub;
 }
 
+template <class Pose>
+std::vector<OdometryChain<Pose>> OdometryOf(
+    const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans) {
+  std::vector<OdometryChain<Pose>> chains;
+  chains.reserve(spans.size());
+  for (const ChainSpan& span : spans) {
+    chains.push_back(ChainOf(SubGraph(graph, {span}, graph.estimates(), {})));
+  }
+  return chains;
+}
+
+template std::vector<OdometryChain<Pose2>> OdometryOf(
+    const PoseGraph<Pose2>&, const std::vector<ChainSpan>&);
+template std::vector<OdometryChain<Pose3>> OdometryOf(
+    const PoseGraph<Pose3>&, const std::vector<ChainSpan>&);
 template std::vector<ChainSpan> ChainSpansOf(const PoseGraph<Pose2>&);
 template std::vector<ChainSpan> ChainSpansOf(const PoseGraph<Pose3>&);
 template PoseGraph<Pose2> SubGraph(const PoseGraph<Pose2>&,

@@ -86,10 +86,7 @@ template <class Pose>
 Verdict VerifyWithPcm(const PoseGraph<Pose>& graph, const PcmOptions& options,
                       ChainMaps<Pose>* maps) {
   const std::vector<ChainSpan> spans = ChainSpansOf(graph);
-  std::vector<OdometryChain<Pose>> chains;
-  for (const ChainSpan& span : spans) {
-    chains.push_back(ChainOf(SubGraph(graph, {span}, graph.estimates(), {})));
-  }
+  const std::vector<OdometryChain<Pose>> chains = OdometryOf(graph, spans);
   // The condensed odometry from pose p to pose q of chain c (either order).
   const auto odometry = [&](int c, int p, int q) {
     return OdometryBetween(chains[c], p - spans[c].first, q - spans[c].first);

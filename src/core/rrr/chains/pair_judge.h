@@ -60,7 +60,7 @@ class PairJudge {
         solver_(pair_graph_, 1),
         spans_(spans),
         offsets_(Offsets(spans)),
-        odometry_(Odometries(graph, spans)),
+        odometry_(OdometryOf(graph, spans)),
         first_of_b_(spans.front().size()),
         second_(second),
         num_inside_(static_cast<int>(accepted.size())),
@@ -170,14 +170,6 @@ class PairJudge {
       next += span.size();
     }
     return offsets;
-  }
-  static std::vector<OdometryChain<Pose>> Odometries(
-      const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans) {
-    std::vector<OdometryChain<Pose>> chains;
-    for (const ChainSpan& span : spans) {
-      chains.push_back(ChainOf(SubGraph(graph, {span}, graph.estimates(), {})));
-    }
-    return chains;
   }
   static std::vector<int> Range(int begin, int end) {
     std::vector<int> r(end - begin);

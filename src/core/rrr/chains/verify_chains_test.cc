@@ -246,6 +246,9 @@ TEST(VerifyChains, AJoinThatStrongerJoinsContradictIsRefused) {
   EXPECT_GT(v.pairs[0].candidates.size(), v.pairs[2].candidates.size());
   EXPECT_EQ(v.map_of_chain, (std::vector<int>{0, 0, 0}));
   EXPECT_TRUE(v.pairs[0].accepted.empty());
+  for (const int k : v.verdict.accepted) {
+    EXPECT_LT(static_cast<size_t>(k), true_loops) << "false loop accepted";
+  }
   for (const ChainPair<Pose2>& pair : v.pairs) {
     if (pair.first == 0 && pair.second == 1) continue;
     EXPECT_GE(pair.accepted.size(), 0.9 * pair.candidates.size())
