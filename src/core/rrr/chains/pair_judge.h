@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -13,10 +12,9 @@
 #include <utility>
 #include <vector>
 
+#include "path_bound.h"
 #include "rrr/graph/chain_spans.h"
-#include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/pose_graph.h"
-#include "rrr/graph/uncertain_pose.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/clustering.h"
@@ -58,9 +56,7 @@ class PairJudge {
         pair_graph_(SubGraph(graph, spans, estimates,
                              Concat(accepted, pair->candidates))),
         solver_(pair_graph_, 1),
-        spans_(spans),
-        offsets_(Offsets(spans)),
-        odometry_(OdometryOf(graph, spans)),
+        bound_(pair_graph_, spans, OdometryOf(graph, spans)),
         first_of_b_(spans.front().size()),
         second_(second),
         num_inside_(static_cast<int>(accepted.size())),
@@ -161,15 +157,6 @@ class PairJudge {
                                  const std::vector<int>& y) {
     x.insert(x.end(), y.begin(), y.end());
     return x;
-  }
-  static std::vector<int> Offsets(const std::vector<ChainSpan>& spans) {
-    std::vector<int> offsets;
-    int next = 0;
-    for (const ChainSpan& span : spans) {
-      offsets.push_back(next);
-      next += span.size();
-    }
-    return offsets;
   }
   static std::vector<int> Range(int begin, int end) {
     std::vector<int> r(end - begin);
@@ -449,105 +436,16 @@ class PairJudge {
     }
   }
 
-  // The chain (index into spans_) of pose `p` of pair_graph_.
-  int SpanAt(int p) const {
-    return static_cast<int>(
-        std::upper_bound(offsets_.begin(), offsets_.end(), p) -
-        offsets_.begin() - 1);
-  }
-
-  // The odometry of chain `s` from its pose `p` to its pose `q` (poses of
-  // pair_graph_).
-  UncertainPose<Pose> Odometry(int s, int p, int q) const {
-    return OdometryBetween(odometry_[s], p - offsets_[s], q - offsets_[s]);
-  }
-
-  // Paths of measurements from pose `p` to pose `q` of pair_graph_
-  // through the loops `hops` (loops of pair_graph_ between chains), over the
-  // fewest chains: into the last chain, one path through each hop that
-  // enters it; before, each chain left by the hop nearest (in poses) to
-  // where the path entered it. None if no hops lead from p's chain to q's.
-  std::vector<UncertainPose<Pose>> PathsBetween(
-      int p, int q, const std::vector<int>& hops) const {
-    const int from = SpanAt(p), to = SpanAt(q);
-    std::vector<int> parent(spans_.size(), -1);
-    parent[from] = from;
-    std::vector<int> queue{from};
-    for (size_t n = 0; n < queue.size() && parent[to] < 0; ++n) {
-      for (const int k : hops) {
-        const auto& e = pair_graph_.loops()[k];
-        for (const auto& [u, v] : {std::pair(SpanAt(e.from), SpanAt(e.to)),
-                                   std::pair(SpanAt(e.to), SpanAt(e.from))}) {
-          if (u == queue[n] && parent[v] < 0) {
-            parent[v] = u;
-            queue.push_back(v);
-          }
-        }
-      }
-    }
-    if (parent[to] < 0) return {};
-    std::vector<int> chains{to};
-    while (chains.back() != from) chains.push_back(parent[chains.back()]);
-    std::reverse(chains.begin(), chains.end());
-    // The hops from chain u to chain v: (its pose on u, on v, measurement).
-    const auto hops_between = [&](int u, int v) {
-      std::vector<std::tuple<int, int, UncertainPose<Pose>>> out;
-      for (const int k : hops) {
-        const auto& e = pair_graph_.loops()[k];
-        if (SpanAt(e.from) == u && SpanAt(e.to) == v) {
-          out.emplace_back(e.from, e.to, MeasurementOf(e));
-        } else if (SpanAt(e.to) == u && SpanAt(e.from) == v) {
-          out.emplace_back(e.to, e.from, MeasurementOf(e).Inverse());
-        }
-      }
-      return out;
-    };
-    UncertainPose<Pose> path;
-    int at = p;
-    for (size_t n = 0; n + 2 < chains.size(); ++n) {
-      const auto next = hops_between(chains[n], chains[n + 1]);
-      const auto nearest = std::min_element(
-          next.begin(), next.end(), [at](const auto& x, const auto& y) {
-            return std::abs(std::get<0>(x) - at) <
-                   std::abs(std::get<0>(y) - at);
-          });
-      path = path * Odometry(chains[n], at, std::get<0>(*nearest)) *
-             std::get<2>(*nearest);
-      at = std::get<1>(*nearest);
-    }
-    const int last = chains[chains.size() - 2];
-    std::vector<UncertainPose<Pose>> paths;
-    for (const auto& [leave, enter, z] : hops_between(last, to)) {
-      paths.push_back(path * Odometry(last, at, leave) * z *
-                      Odometry(to, enter, q));
-    }
-    return paths;
-  }
-
   // A lower bound of what `links` would bring to the joined map, at its
-  // minimum `x`, to first order. The links together bring at least what
-  // each brings alone; one link brings its squared Mahalanobis error at x
-  // with the covariance of the map's relative pose of its ends, which the
-  // covariance along any one path of measurements between them bounds from
-  // above (the map holds that path and more): odometry, and the accepted
-  // loops between chains (PathsBetween). 0 while no path leads.
+  // minimum `x` (PathBound), through the accepted loops between chains.
   double LeastBrought(const std::vector<int>& links,
                       const std::vector<Pose>& x) const {
     std::vector<int> hops = Links(in_map_);
     for (const int k : inside_) {
       const auto& e = pair_graph_.loops()[k];
-      if (SpanAt(e.from) != SpanAt(e.to)) hops.push_back(k);
+      if (!bound_.SameChain(e.from, e.to)) hops.push_back(k);
     }
-    double least = 0.0;
-    for (const int k : Links(links)) {
-      const auto& e = pair_graph_.loops()[k];
-      for (const UncertainPose<Pose>& path : PathsBetween(e.from, e.to, hops)) {
-        const UncertainPose<Pose> map{x[e.from].between(x[e.to]), path.cov};
-        least = std::max(least,
-                         (map.Inverse() * MeasurementOf(e)).SquaredDistance());
-      }
-    }
-    return least;
+    return bound_.Least(Links(links), hops, x);
   }
 
   void Accept(const std::vector<int>& links, const DecisionReason& reason) {
@@ -589,9 +487,7 @@ class PairJudge {
   const std::vector<Pose> estimates_;  // of every pose of graph_
   const PoseGraph<Pose> pair_graph_;
   const PoseGraphSolver<Pose> solver_;
-  const std::vector<ChainSpan> spans_;  // of graph_, that pair_graph_ holds
-  const std::vector<int> offsets_;      // each one's first pose in it
-  const std::vector<OdometryChain<Pose>> odometry_;  // each one's
+  const PathBound<Pose> bound_;
   const int first_of_b_;    // in pair_graph_, when it holds the two chains
   const ChainSpan second_;  // the pair's second chain, in graph_
   const int num_inside_;
