@@ -77,6 +77,20 @@ RrrOptions Options() {
   return options;
 }
 
+// `world` cut into two sessions at pose `cut`, with 200 false loops
+// between them (random, seed 3) after its `*true_loops` true ones.
+PoseGraph<Pose2> TwoSessionsWithFalseLoops(const SimulatedWorld& world, int cut,
+                                           size_t* true_loops) {
+  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
+  *true_loops = two.loops().size();
+  FalseLoopOptions spoil;
+  spoil.count = 200;
+  spoil.between_chains = true;
+  spoil.seed = 3;
+  AddFalseLoops(&two, spoil);
+  return two;
+}
+
 TEST(ChainSpans, AGapStartsAChain) {
   const SimulatedWorld world = SimulateWorld(Grid(400, 1));
   const PoseGraph<Pose2> two = CutAt(world.graph, {150});
@@ -132,14 +146,9 @@ TEST(VerifyChains, RevisitsFarApartJoinSessionsWhateverTheDriftBetweenThem) {
   // apart by a rule that required that), but one placement of the second
   // map fits them all.
   const SimulatedWorld world = SimulateWorld(Grid(1000, 4));
-  const int cut = 500;
-  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
-  const size_t true_loops = two.loops().size();
-  FalseLoopOptions spoil;
-  spoil.count = 200;
-  spoil.between_chains = true;
-  spoil.seed = 3;
-  AddFalseLoops(&two, spoil);
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> two =
+      TwoSessionsWithFalseLoops(world, 500, &true_loops);
   const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
   ASSERT_EQ(v.pairs.size(), 1u);
   EXPECT_TRUE(v.pairs[0].joined);
@@ -268,14 +277,9 @@ TEST(VerifyChains, ALoopRefusedByTheBoundIsOneAFullMinimizationRefuses) {
   // what they would bring (test "map_bound"), without a trial: each must be
   // one that minimizing the whole joined map with it refuses too.
   const SimulatedWorld world = SimulateWorld(Grid(1200, 3));
-  const int cut = 600;
-  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
-  const size_t true_loops = two.loops().size();
-  FalseLoopOptions spoil;
-  spoil.count = 200;
-  spoil.between_chains = true;
-  spoil.seed = 3;
-  AddFalseLoops(&two, spoil);
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> two =
+      TwoSessionsWithFalseLoops(world, 600, &true_loops);
   const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
   ASSERT_EQ(v.pairs.size(), 1u);
   ASSERT_TRUE(v.pairs[0].joined);
