@@ -76,6 +76,25 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
                                  const RrrOptions& options,
                                  MapVerifierStats* stats = nullptr);
 
+// One chain judged alone by the map procedure.
+template <class Pose>
+struct ChainAlone {
+  std::vector<int> inside;  // the loops inside it, indices of the graph's
+  Verdict verdict;          // over `inside` (its loop k is inside[k])
+  std::vector<Pose> map;    // its poses, in its own frame
+  MapVerifierStats stats;
+};
+
+// Rules 1–3 of VerifyChains over the chains of `graph` (ChainSpansOf), each
+// judged alone already (`alone`, by chain; a loop pending there is counted
+// refused): the verdict over every loop, the pairs and the map each chain is
+// in, with `estimates` each chain at its own map in its own frame. Rule 4
+// (MinimizeMaps) is left to the caller. `stats`, if given, sums the chains'.
+template <class Pose>
+ChainsVerdict<Pose> JudgeBetweenChains(
+    const PoseGraph<Pose>& graph, const std::vector<ChainAlone<Pose>>& alone,
+    const RrrOptions& options, MapVerifierStats* stats = nullptr);
+
 }  // namespace rrr
 
 #endif  // RRR_RRR_CHAINS_VERIFY_CHAINS_H_

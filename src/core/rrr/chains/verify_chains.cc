@@ -18,62 +18,82 @@ template <class Pose>
 ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
                                  const RrrOptions& options,
                                  MapVerifierStats* stats) {
-  ChainsVerdict<Pose> out;
-  out.chains = ChainSpansOf(graph);
-  const int num_chains = static_cast<int>(out.chains.size());
-  out.map_of_chain.resize(num_chains);
-  std::iota(out.map_of_chain.begin(), out.map_of_chain.end(), 0);
-  if (num_chains <= 1) {
+  const std::vector<ChainSpan> chains = ChainSpansOf(graph);
+  if (chains.size() <= 1) {
+    ChainsVerdict<Pose> out;
+    out.chains = chains;
+    out.map_of_chain.assign(chains.size(), 0);
     out.verdict = VerifyWithMap(graph, options, &out.estimates, stats);
     return out;
   }
+  // Each chain alone, as if it were the whole graph.
+  std::vector<ChainAlone<Pose>> alone(chains.size());
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    const int a = ChainHolding(chains, e.from);
+    if (a == ChainHolding(chains, e.to)) {
+      alone[a].inside.push_back(static_cast<int>(k));
+    }
+  }
+  for (size_t c = 0; c < chains.size(); ++c) {
+    const PoseGraph<Pose> one =
+        SubGraph(graph, {chains[c]}, graph.estimates(), alone[c].inside);
+    alone[c].verdict =
+        VerifyWithMap(one, options, &alone[c].map, &alone[c].stats);
+  }
+  ChainsVerdict<Pose> out = JudgeBetweenChains(graph, alone, options, stats);
+  // Rule 4: each map, in the frame of its lowest chain, minimized with its
+  // accepted loops.
+  MinimizeMaps(graph, out.verdict.accepted, &out);
+  return out;
+}
+
+template <class Pose>
+ChainsVerdict<Pose> JudgeBetweenChains(
+    const PoseGraph<Pose>& graph, const std::vector<ChainAlone<Pose>>& alone,
+    const RrrOptions& options, MapVerifierStats* stats) {
+  ChainsVerdict<Pose> out;
+  out.chains = ChainSpansOf(graph);
+  const int num_chains = static_cast<int>(out.chains.size());
   Verdict& verdict = out.verdict;
   verdict.cluster_of_loop.assign(graph.loops().size(), -1);
   verdict.reasons.resize(graph.loops().size());
   out.estimates = graph.estimates();
 
-  // The loops inside each chain, and between each pair.
-  std::vector<std::vector<int>> inside(num_chains);
+  // The loops between each pair.
   std::map<std::pair<int, int>, std::vector<int>> between;
   for (size_t k = 0; k < graph.loops().size(); ++k) {
     const auto& e = graph.loops()[k];
     const int a = ChainHolding(out.chains, e.from);
     const int b = ChainHolding(out.chains, e.to);
-    if (a == b) {
-      inside[a].push_back(static_cast<int>(k));
-    } else {
+    if (a != b) {
       between[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(k));
     }
   }
 
-  // Each chain alone, as if it were the whole graph.
-  std::vector<std::vector<int>> accepted_inside(num_chains);
-  std::vector<MapVerifierStats> chain_stats(num_chains);
+  // Each chain's own decisions, and its map in its own frame.
   for (int c = 0; c < num_chains; ++c) {
     const ChainSpan& span = out.chains[c];
-    const PoseGraph<Pose> alone =
-        SubGraph(graph, {span}, graph.estimates(), inside[c]);
-    std::vector<Pose> map;
-    const Verdict v = VerifyWithMap(alone, options, &map, &chain_stats[c]);
-    std::copy(map.begin(), map.end(), out.estimates.begin() + span.first);
+    const std::vector<int>& inside = alone[c].inside;
+    const Verdict& v = alone[c].verdict;
+    std::copy(alone[c].map.begin(), alone[c].map.end(),
+              out.estimates.begin() + span.first);
     const int offset = static_cast<int>(verdict.clusters.size());
     for (Cluster cluster : v.clusters) {
-      for (int& k : cluster.loops) k = inside[c][k];
+      for (int& k : cluster.loops) k = inside[k];
       verdict.clusters.push_back(cluster);
     }
-    for (size_t k = 0; k < inside[c].size(); ++k) {
-      const int loop = inside[c][k];
-      verdict.cluster_of_loop[loop] = offset + v.cluster_of_loop[k];
+    for (size_t k = 0; k < inside.size(); ++k) {
+      const int loop = inside[k];
+      verdict.cluster_of_loop[loop] =
+          v.cluster_of_loop[k] < 0 ? -1 : offset + v.cluster_of_loop[k];
       DecisionReason reason = v.reasons[k];
       if (reason.pose >= 0) reason.pose += span.first;
       if (reason.by_cluster >= 0) reason.by_cluster += offset;
       verdict.reasons[loop] = reason;
     }
-    for (const int k : v.accepted) {
-      accepted_inside[c].push_back(inside[c][k]);
-      verdict.accepted.push_back(inside[c][k]);
-    }
-    for (const int k : v.rejected) verdict.rejected.push_back(inside[c][k]);
+    for (const int k : v.accepted) verdict.accepted.push_back(inside[k]);
+    for (const int k : v.rejected) verdict.rejected.push_back(inside[k]);
   }
 
   // The judge of the pair of chains a < b with `candidates`: both at their
@@ -106,9 +126,9 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
     }
     return PairJudge<Pose>(
         graph, spans, out.chains[b], placed, accepted, pair, options,
-        std::max(chain_stats[a].group_noise_scale,
-                 chain_stats[b].group_noise_scale),
-        std::max(chain_stats[a].noise_scale, chain_stats[b].noise_scale), v);
+        std::max(alone[a].stats.group_noise_scale,
+                 alone[b].stats.group_noise_scale),
+        std::max(alone[a].stats.noise_scale, alone[b].stats.noise_scale), v);
   };
 
   // The pairs in order of the evidence that would join them apart (rules
@@ -161,15 +181,14 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
                      std::make_pair(y.first, y.second);
             });
 
-  // Rule 4: each map, in the frame of its lowest chain, minimized with its
-  // accepted loops.
-  MinimizeMaps(graph, verdict.accepted, &out);
+  out.map_of_chain.resize(num_chains);
+  for (int c = 0; c < num_chains; ++c) out.map_of_chain[c] = maps.Find(c);
 
   if (stats) {
     *stats = MapVerifierStats();
     int largest = 0;
     for (int c = 0; c < num_chains; ++c) {
-      const MapVerifierStats& s = chain_stats[c];
+      const MapVerifierStats& s = alone[c].stats;
       stats->own_solves += s.own_solves;
       stats->trials += s.trials;
       stats->quick_accepts += s.quick_accepts;
@@ -179,7 +198,7 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
       stats->not_converged += s.not_converged;
       if (out.chains[c].size() > out.chains[largest].size()) largest = c;
     }
-    const MapVerifierStats& s = chain_stats[largest];
+    const MapVerifierStats& s = alone[largest].stats;
     stats->noise_scale = s.noise_scale;
     stats->group_noise_scale = s.group_noise_scale;
     stats->noise_scale_source = s.noise_scale_source;
@@ -194,5 +213,11 @@ template ChainsVerdict<Pose2> VerifyChains(const PoseGraph<Pose2>&,
 template ChainsVerdict<Pose3> VerifyChains(const PoseGraph<Pose3>&,
                                            const RrrOptions&,
                                            MapVerifierStats*);
+template ChainsVerdict<Pose2> JudgeBetweenChains(
+    const PoseGraph<Pose2>&, const std::vector<ChainAlone<Pose2>>&,
+    const RrrOptions&, MapVerifierStats*);
+template ChainsVerdict<Pose3> JudgeBetweenChains(
+    const PoseGraph<Pose3>&, const std::vector<ChainAlone<Pose3>>&,
+    const RrrOptions&, MapVerifierStats*);
 
 }  // namespace rrr

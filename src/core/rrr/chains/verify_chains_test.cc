@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <set>
 
+#include "../../testing/chain_worlds.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/sim/false_loops.h"
@@ -15,81 +16,12 @@
 namespace rrr {
 namespace {
 
-// Appends `world` to `graph` as a new chain: its poses (ids after the
-// graph's), its odometry and its loops, the estimates moved by `moved` (a
-// session whose odometry starts elsewhere). Returns the first pose's index.
-int AppendChain(const SimulatedWorld& world, const Pose2& moved,
-                PoseGraph<Pose2>* graph) {
-  const int first = graph->num_poses();
-  const PoseId id0 = first == 0 ? 0 : graph->ids().back() + 2;
-  for (int k = 0; k < world.graph.num_poses(); ++k) {
-    graph->AddPose(id0 + k, moved * world.graph.estimates()[k]);
-  }
-  for (auto e : world.graph.odometry()) {
-    e.from += first;
-    e.to += first;
-    graph->AddEdge(e);
-  }
-  for (auto e : world.graph.loops()) {
-    e.from += first;
-    e.to += first;
-    graph->AddEdge(e);
-  }
-  return first;
-}
-
-// One world's graph cut into sessions at the poses `cuts` (ascending): the
-// odometry edge into each removed, each later session's estimates restarted
-// elsewhere. Loops across a cut become loops between the chains.
-PoseGraph<Pose2> CutAt(const PoseGraph<Pose2>& graph,
-                       const std::vector<int>& cuts) {
-  PoseGraph<Pose2> out;
-  Pose2 restart;
-  for (int k = 0, next = 0; k < graph.num_poses(); ++k) {
-    if (next < static_cast<int>(cuts.size()) && k == cuts[next]) {
-      ++next;
-      restart = Pose2(40.0 * next, -25.0, 1.2 * next) *
-                graph.estimates()[k].inverse();
-    }
-    out.AddPose(graph.ids()[k], restart * graph.estimates()[k]);
-  }
-  for (const auto& e : graph.odometry()) {
-    const int later = std::max(e.from, e.to);
-    if (std::find(cuts.begin(), cuts.end(), later) == cuts.end()) {
-      out.AddEdge(e);
-    }
-  }
-  for (const auto& e : graph.loops()) out.AddEdge(e);
-  return out;
-}
-
-WorldOptions Grid(int poses, std::uint64_t seed) {
-  WorldOptions options;
-  options.poses = poses;
-  options.false_loops = 0;
-  options.seed = seed;
-  return options;
-}
-
-RrrOptions Options() {
-  RrrOptions options;
-  options.cluster_window = 10;
-  return options;
-}
-
-// `world` cut into two sessions at pose `cut`, with 200 false loops
-// between them (random, seed 3) after its `*true_loops` true ones.
-PoseGraph<Pose2> TwoSessionsWithFalseLoops(const SimulatedWorld& world, int cut,
-                                           size_t* true_loops) {
-  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
-  *true_loops = two.loops().size();
-  FalseLoopOptions spoil;
-  spoil.count = 200;
-  spoil.between_chains = true;
-  spoil.seed = 3;
-  AddFalseLoops(&two, spoil);
-  return two;
-}
+using testing::AppendChain;
+using testing::ChainWorldOptions;
+using testing::CutAt;
+using testing::Grid;
+using testing::ThreeSessionsWithAFalseJoin;
+using testing::TwoSessionsWithFalseLoops;
 
 TEST(ChainSpans, AGapStartsAChain) {
   const SimulatedWorld world = SimulateWorld(Grid(400, 1));
@@ -113,7 +45,7 @@ TEST(VerifyChains, TwoSessionsOfOneWorldAreJoinedByTheirLoops) {
     across += (e.from < cut) != (e.to < cut);
   }
   ASSERT_GT(across, 10);
-  const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(two, ChainWorldOptions());
   ASSERT_EQ(v.chains.size(), 2u);
   ASSERT_EQ(v.pairs.size(), 1u);
   const ChainPair<Pose2>& pair = v.pairs[0];
@@ -149,7 +81,7 @@ TEST(VerifyChains, RevisitsFarApartJoinSessionsWhateverTheDriftBetweenThem) {
   size_t true_loops = 0;
   const PoseGraph<Pose2> two =
       TwoSessionsWithFalseLoops(world, 500, &true_loops);
-  const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(two, ChainWorldOptions());
   ASSERT_EQ(v.pairs.size(), 1u);
   EXPECT_TRUE(v.pairs[0].joined);
   int true_between = 0, false_kept = 0;
@@ -170,7 +102,7 @@ TEST(VerifyChains, ThreeSessionsMakeOneMapWithTheLoopsOfEveryPair) {
   const SimulatedWorld world = SimulateWorld(Grid(1500, 3));
   const std::vector<int> cuts = {500, 1000};
   const PoseGraph<Pose2> three = CutAt(world.graph, cuts);
-  const ChainsVerdict<Pose2> v = VerifyChains(three, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(three, ChainWorldOptions());
   ASSERT_EQ(v.chains.size(), 3u);
   EXPECT_EQ(v.map_of_chain, (std::vector<int>{0, 0, 0}));
   for (const ChainPair<Pose2>& pair : v.pairs) {
@@ -196,60 +128,10 @@ TEST(VerifyChains, AJoinThatStrongerJoinsContradictIsRefused) {
   // one map, and the false revisits are judged against it and refused.
   const SimulatedWorld world = SimulateWorld(Grid(1500, 3));
   const std::vector<int> cuts = {500, 1000};
-  const PoseGraph<Pose2> cut = CutAt(world.graph, cuts);
-  const auto first_two = [&](const Constraint<Pose2>& e) {
-    return std::min(e.from, e.to) < cuts[0] &&
-           std::max(e.from, e.to) >= cuts[0] &&
-           std::max(e.from, e.to) < cuts[1];
-  };
-  PoseGraph<Pose2> three;
-  for (int p = 0; p < cut.num_poses(); ++p) {
-    three.AddPose(cut.ids()[p], cut.estimates()[p]);
-  }
-  for (const auto& e : cut.odometry()) three.AddEdge(e);
-  for (const auto& e : cut.loops()) {
-    if (!first_two(e)) three.AddEdge(e);
-  }
-  const size_t true_loops = three.loops().size();
-  // The false revisits agree exactly with each session's own map.
-  std::vector<Pose2> maps(three.num_poses());
-  for (const ChainSpan& span : ChainSpansOf(three)) {
-    std::vector<int> inside;
-    for (size_t k = 0; k < three.loops().size(); ++k) {
-      if (span.Holds(three.loops()[k].from) &&
-          span.Holds(three.loops()[k].to)) {
-        inside.push_back(static_cast<int>(k));
-      }
-    }
-    std::vector<Pose2> map;
-    VerifyWithMap(SubGraph(three, {span}, three.estimates(), inside), Options(),
-                  &map);
-    std::copy(map.begin(), map.end(), maps.begin() + span.first);
-  }
-  const Pose2 look_alike(6.0, -4.0, 0.4);
-  for (const auto& [i, j] : {std::pair(100, 700), std::pair(130, 730)}) {
-    for (int k = 0; k < 2; ++k) {
-      Constraint<Pose2> e;
-      e.from = i + k;
-      e.to = j + k;
-      e.measurement = maps[e.from].between(look_alike * maps[e.to]);
-      e.information = three.loops().front().information;
-      three.AddEdge(e);
-    }
-  }
-  // Random false loops between any two sessions; those between the first
-  // two kept.
-  PoseGraph<Pose2> drawn = three;
-  FalseLoopOptions spoil;
-  spoil.count = 240;
-  spoil.between_chains = true;
-  spoil.seed = 4;
-  const size_t before = drawn.loops().size();
-  AddFalseLoops(&drawn, spoil);
-  for (size_t k = before; k < drawn.loops().size(); ++k) {
-    if (first_two(drawn.loops()[k])) three.AddEdge(drawn.loops()[k]);
-  }
-  const ChainsVerdict<Pose2> v = VerifyChains(three, Options());
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> three =
+      ThreeSessionsWithAFalseJoin(world, cuts, &true_loops);
+  const ChainsVerdict<Pose2> v = VerifyChains(three, ChainWorldOptions());
   ASSERT_EQ(v.chains.size(), 3u);
   ASSERT_EQ(v.pairs.size(), 3u);
   EXPECT_GT(v.pairs[0].candidates.size(), v.pairs[2].candidates.size());
@@ -280,7 +162,7 @@ TEST(VerifyChains, ALoopRefusedByTheBoundIsOneAFullMinimizationRefuses) {
   size_t true_loops = 0;
   const PoseGraph<Pose2> two =
       TwoSessionsWithFalseLoops(world, 600, &true_loops);
-  const ChainsVerdict<Pose2> v = VerifyChains(two, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(two, ChainWorldOptions());
   ASSERT_EQ(v.pairs.size(), 1u);
   ASSERT_TRUE(v.pairs[0].joined);
   int true_between = 0, true_kept = 0;
@@ -336,7 +218,7 @@ TEST(VerifyChains, RobotsThatNeverMeetAreNeverJoinedByFalseLoops) {
       ASSERT_NE(e.from < 600, e.to < 600) << "not between the chains";
     }
   }
-  const ChainsVerdict<Pose2> v = VerifyChains(fleet, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(fleet, ChainWorldOptions());
   ASSERT_EQ(v.pairs.size(), 1u);
   EXPECT_EQ(v.pairs[0].candidates.size(), 1000u);
   EXPECT_FALSE(v.pairs[0].joined);
@@ -350,7 +232,7 @@ TEST(VerifyChains, RobotsThatNeverMeetAreNeverJoinedByFalseLoops) {
   // The first robot's own loops are judged as its chain alone judges them.
   const std::vector<int> alone =
       VerifyWithMap(SubGraph(fleet, {v.chains[0]}, fleet.estimates(), inside_a),
-                    Options())
+                    ChainWorldOptions())
           .accepted;
   int accepted_a = 0;
   for (const int k : v.verdict.accepted) {
@@ -374,7 +256,7 @@ TEST(VerifyChains, OneFalseClusterCannotJoinTwoChainsAlone) {
         fleet.estimates()[e.from].between(wrong * fleet.estimates()[e.to]);
     fleet.AddEdge(e);
   }
-  const ChainsVerdict<Pose2> v = VerifyChains(fleet, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(fleet, ChainWorldOptions());
   ASSERT_EQ(v.pairs.size(), 1u);
   EXPECT_FALSE(v.pairs[0].joined);
   EXPECT_TRUE(v.pairs[0].accepted.empty());
@@ -401,7 +283,7 @@ TEST(VerifyChains, RobotsThatMeetOnceAmongFalseLoopsAreLeftApartAndSaySo) {
   FalseLoopOptions spoil;
   spoil.count = 100;
   AddFalseLoops(&fleet, spoil);
-  const ChainsVerdict<Pose2> v = VerifyChains(fleet, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(fleet, ChainWorldOptions());
   ASSERT_EQ(v.pairs.size(), 1u);
   EXPECT_FALSE(v.pairs[0].joined);
   for (const int k : v.pairs[0].candidates) {
@@ -415,9 +297,10 @@ TEST(VerifyChains, OneChainIsJudgedAsTheMapProcedureJudgesIt) {
   WorldOptions world_options = Grid(500, 11);
   world_options.false_loops = 20;
   const SimulatedWorld world = SimulateWorld(world_options);
-  const ChainsVerdict<Pose2> v = VerifyChains(world.graph, Options());
+  const ChainsVerdict<Pose2> v = VerifyChains(world.graph, ChainWorldOptions());
   EXPECT_TRUE(v.pairs.empty());
-  EXPECT_EQ(v.verdict.accepted, VerifyWithMap(world.graph, Options()).accepted);
+  EXPECT_EQ(v.verdict.accepted,
+            VerifyWithMap(world.graph, ChainWorldOptions()).accepted);
 }
 
 }  // namespace

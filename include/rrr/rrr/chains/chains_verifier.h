@@ -1,0 +1,136 @@
+// The map procedure over time over several odometry chains: robots of a
+// fleet, or sessions of one robot, that grow side by side and are joined only
+// by loop closures.
+#ifndef RRR_RRR_CHAINS_CHAINS_VERIFIER_H_
+#define RRR_RRR_CHAINS_CHAINS_VERIFIER_H_
+
+#include <memory>
+#include <vector>
+
+#include "rrr/graph/pose_graph.h"
+#include "rrr/rrr/chains/verify_chains.h"
+#include "rrr/rrr/decision_reason.h"
+#include "rrr/rrr/map/map_verifier.h"
+#include "rrr/rrr/online_verifier.h"
+#include "rrr/rrr/options.h"
+
+namespace rrr {
+
+// A pose of a graph of chains: its chain and its id in that chain.
+struct ChainPose {
+  int chain = 0;
+  PoseId id = 0;
+};
+
+// Judges the loop candidates of several chains as they arrive. Each chain's
+// own loops are judged by its own MapVerifier, exactly as if the chain were
+// the whole graph. The loops between chains are judged by VerifyChains'
+// rules 1–3 (JudgeBetweenChains) over the graph as it is, again at every
+// Update() after which a chain's decisions, or the loops between chains,
+// changed: so a join is reversed when later evidence contradicts it (a join
+// on more evidence, made first, puts the chains in one map that refutes
+// it). Until two clusters join a pair, its loops stay pending (nothing can
+// confirm them yet); Finish() refuses them (test "apart"). After Finish()
+// the decisions are those of VerifyChains on Graph().
+template <class Pose>
+class ChainsVerifier {
+ public:
+  using Information = typename Constraint<Pose>::Information;
+
+  // Throws std::invalid_argument if `options` do not validate.
+  explicit ChainsVerifier(const RrrOptions& options);
+  ~ChainsVerifier();
+
+  // Starts a new chain at pose `id` (its ids count on from there); returns
+  // its index (0, 1, ... in order).
+  int AddChain(PoseId id, const Pose& pose);
+  // Appends a pose to chain `chain`, reached from its last by odometry `z`;
+  // returns the new pose's id. Throws std::out_of_range for a chain that
+  // does not exist.
+  PoseId AddOdometry(int chain, const Pose& z, const Information& information);
+  // Adds the candidate z ≈ x_a⁻¹ · x_b and returns its number (0, 1, ... in
+  // arrival order over every chain). Inside one chain as
+  // OnlineVerifier::AddLoop (it waits for a pose not there yet). Between two
+  // chains it waits likewise, under the same bounds. Throws
+  // DegenerateCandidate, keeping nothing, for a candidate OnlineVerifier
+  // refuses, and std::out_of_range for a chain that does not exist.
+  int AddLoop(ChainPose a, ChainPose b, const Pose& z,
+              const Information& information);
+
+  // Judges what became ready; returns the changed decisions.
+  std::vector<DecisionChange> Update() { return Judge(false); }
+  // Judges everything now, as at the end of a run, and minimizes each map
+  // with its accepted loops; returns the changed decisions.
+  std::vector<DecisionChange> Finish() { return Judge(true); }
+
+  int num_chains() const { return static_cast<int>(chains_.size()); }
+  int num_candidates() const { return static_cast<int>(candidates_.size()); }
+  // How many candidates are in `state` now.
+  int num_in_state(LoopState state) const;
+  LoopState state(int candidate) const {
+    return candidates_.at(candidate).state;
+  }
+  DecisionReason reason(int candidate) const;
+  // The candidate's ends as given to AddLoop.
+  ChainPose from(int candidate) const { return candidates_.at(candidate).a; }
+  ChainPose to(int candidate) const { return candidates_.at(candidate).b; }
+  // Chain `chain`'s own verifier (its poses, odometry and own loops).
+  const MapVerifier<Pose>& chain(int chain) const { return *chains_.at(chain); }
+
+  // The map chain `chain` is in: the lowest chain joined with it (itself if
+  // none), as of the last Update().
+  int map_of_chain(int chain) const;
+  // Chain `chain`'s frame in its map's (x_map = frame · x_chain).
+  Pose frame_of_chain(int chain) const;
+  // The pairs of chains with candidates between them, as last judged.
+  const std::vector<ChainPair<Pose>>& pairs() const { return judged_.pairs; }
+  // The poses of chain `chain` in its map's frame: its own map placed by
+  // its frame; after Finish(), its map minimized with every accepted loop.
+  std::vector<Pose> Map(int chain);
+
+  // Every chain in order (ids counted on over the chains, a gap of one id
+  // between two), their odometry, each chain's own loops in the order they
+  // entered its graph, then the loops between chains that have both poses,
+  // in arrival order. `candidate_of_loop`, if given, receives each loop's
+  // candidate number.
+  PoseGraph<Pose> Graph(std::vector<int>* candidate_of_loop = nullptr) const;
+
+ private:
+  struct Candidate {
+    ChainPose a, b;
+    int own = -1;      // candidate number in its chain's verifier, if inside
+    int between = -1;  // index into between_, if between chains
+    LoopState state = LoopState::kPending;
+    DecisionReason reason;  // between chains (inside: the chain's)
+  };
+  struct Between {
+    int candidate;
+    Pose measurement;
+    Information information;
+  };
+
+  std::vector<DecisionChange> Judge(bool finish);
+  // Rules 1–3 over the graph as it is, setting the states of the loops
+  // between chains.
+  void JudgeBetween(bool finish, std::vector<DecisionChange>* changes);
+  void SetState(int candidate, LoopState state,
+                std::vector<DecisionChange>* changes);
+  // Whether pose `id` of chain `chain` exists.
+  bool Exists(const ChainPose& p) const;
+
+  RrrOptions options_;
+  std::vector<std::unique_ptr<MapVerifier<Pose>>> chains_;
+  // Per chain: fleet candidate number of each of its own candidates.
+  std::vector<std::vector<int>> candidate_of_own_;
+  std::vector<Candidate> candidates_;
+  std::vector<Between> between_;
+  bool between_changed_ = false;  // since the last JudgeBetween
+  int num_ready_judged_ = 0;      // loops between chains it took
+  ChainsVerdict<Pose> judged_;    // its last result (pairs, maps)
+  std::vector<Pose> frames_;      // each chain's frame in its map's
+  bool finished_ = false;         // judged_.estimates minimized
+};
+
+}  // namespace rrr
+
+#endif  // RRR_RRR_CHAINS_CHAINS_VERIFIER_H_

@@ -1,0 +1,274 @@
+#include "rrr/rrr/chains/chains_verifier.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/graph/candidate_defect.h"
+#include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/solver/chain_maps.h"
+
+namespace rrr {
+
+template <class Pose>
+ChainsVerifier<Pose>::ChainsVerifier(const RrrOptions& options)
+    : options_(options) {
+  const std::string problem = options.Validate();
+  if (!problem.empty()) throw std::invalid_argument(problem);
+}
+
+template <class Pose>
+ChainsVerifier<Pose>::~ChainsVerifier() = default;
+
+template <class Pose>
+int ChainsVerifier<Pose>::AddChain(PoseId id, const Pose& pose) {
+  chains_.push_back(std::make_unique<MapVerifier<Pose>>(options_));
+  chains_.back()->AddFirstPose(id, pose);
+  candidate_of_own_.emplace_back();
+  finished_ = false;
+  return num_chains() - 1;
+}
+
+template <class Pose>
+PoseId ChainsVerifier<Pose>::AddOdometry(int chain, const Pose& z,
+                                         const Information& information) {
+  finished_ = false;
+  return chains_.at(chain)->AddOdometry(z, information);
+}
+
+template <class Pose>
+bool ChainsVerifier<Pose>::Exists(const ChainPose& p) const {
+  return chains_.at(p.chain)->graph().IndexOf(p.id) >= 0;
+}
+
+template <class Pose>
+int ChainsVerifier<Pose>::AddLoop(ChainPose a, ChainPose b, const Pose& z,
+                                  const Information& information) {
+  static_cast<void>(chains_.at(a.chain));
+  static_cast<void>(chains_.at(b.chain));
+  Candidate candidate;
+  candidate.a = a;
+  candidate.b = b;
+  if (a.chain == b.chain) {
+    candidate.own = chains_[a.chain]->AddLoop(a.id, b.id, z, information);
+    candidate_of_own_[a.chain].push_back(num_candidates());
+  } else {
+    const auto name = [](const ChainPose& p) {
+      return std::to_string(p.chain) + ":" + std::to_string(p.id);
+    };
+    const std::string pair = "candidate " + name(a) + " -> " + name(b);
+    int waiting = 0;
+    for (const Between& other : between_) {
+      const Candidate& c = candidates_[other.candidate];
+      waiting += !Exists(c.a) || !Exists(c.b);
+      if (c.a.chain == a.chain && c.a.id == a.id && c.b.chain == b.chain &&
+          c.b.id == b.id && other.measurement.Log() == z.Log() &&
+          other.information == information) {
+        throw DegenerateCandidate(
+            CandidateDefect::kDuplicate,
+            pair + " repeats candidate " + std::to_string(other.candidate));
+      }
+    }
+    for (const ChainPose& p : {a, b}) {
+      const auto& ids = chains_[p.chain]->graph().ids();
+      if (p.id < ids.front()) {
+        throw DegenerateCandidate(CandidateDefect::kUnknownPose,
+                                  pair + ": pose " + name(p) +
+                                      " precedes its chain's first pose " +
+                                      std::to_string(ids.front()));
+      }
+      if (p.id > ids.back() + options_.max_future_poses) {
+        throw DegenerateCandidate(
+            CandidateDefect::kTooFarAhead,
+            pair + ": pose " + name(p) + " is more than " +
+                std::to_string(options_.max_future_poses) +
+                " poses past its chain's newest, " +
+                std::to_string(ids.back()));
+      }
+    }
+    if ((!Exists(a) || !Exists(b)) && waiting >= options_.max_waiting) {
+      throw DegenerateCandidate(CandidateDefect::kWaitingFull,
+                                pair + " would wait while " +
+                                    std::to_string(options_.max_waiting) +
+                                    " candidates between chains already wait");
+    }
+    candidate.between = static_cast<int>(between_.size());
+    between_.push_back({num_candidates(), z, information});
+    between_changed_ = true;
+  }
+  candidates_.push_back(candidate);
+  finished_ = false;
+  return num_candidates() - 1;
+}
+
+template <class Pose>
+int ChainsVerifier<Pose>::num_in_state(LoopState state) const {
+  return static_cast<int>(
+      std::count_if(candidates_.begin(), candidates_.end(),
+                    [&](const Candidate& c) { return c.state == state; }));
+}
+
+template <class Pose>
+DecisionReason ChainsVerifier<Pose>::reason(int candidate) const {
+  const Candidate& c = candidates_.at(candidate);
+  return c.own >= 0 ? chains_[c.a.chain]->reason(c.own) : c.reason;
+}
+
+template <class Pose>
+int ChainsVerifier<Pose>::map_of_chain(int chain) const {
+  static_cast<void>(chains_.at(chain));
+  return chain < static_cast<int>(judged_.map_of_chain.size())
+             ? judged_.map_of_chain[chain]
+             : chain;
+}
+
+template <class Pose>
+Pose ChainsVerifier<Pose>::frame_of_chain(int chain) const {
+  static_cast<void>(chains_.at(chain));
+  return chain < static_cast<int>(frames_.size()) ? frames_[chain] : Pose();
+}
+
+template <class Pose>
+std::vector<Pose> ChainsVerifier<Pose>::Map(int chain) {
+  if (finished_) {
+    const ChainSpan& span = judged_.chains.at(chain);
+    return std::vector<Pose>(judged_.estimates.begin() + span.first,
+                             judged_.estimates.begin() + span.last + 1);
+  }
+  std::vector<Pose> map = chains_.at(chain)->Map();
+  const Pose frame = frame_of_chain(chain);
+  for (Pose& x : map) x = frame * x;
+  return map;
+}
+
+template <class Pose>
+PoseGraph<Pose> ChainsVerifier<Pose>::Graph(
+    std::vector<int>* candidate_of_loop) const {
+  PoseGraph<Pose> graph;
+  std::vector<int> candidates;
+  std::vector<int> offset(chains_.size());
+  PoseId id = 0;
+  for (size_t c = 0; c < chains_.size(); ++c) {
+    const PoseGraph<Pose>& own = chains_[c]->graph();
+    offset[c] = graph.num_poses();
+    for (const Pose& x : own.estimates()) graph.AddPose(id++, x);
+    ++id;  // a gap: no odometry to the next chain
+    for (auto e : own.odometry()) {
+      e.from += offset[c];
+      e.to += offset[c];
+      graph.AddEdge(e);
+    }
+    std::vector<int> own_of_loop(own.loops().size());
+    for (int k = 0; k < chains_[c]->num_candidates(); ++k) {
+      if (chains_[c]->loop_of(k) >= 0) own_of_loop[chains_[c]->loop_of(k)] = k;
+    }
+    for (size_t k = 0; k < own.loops().size(); ++k) {
+      auto e = own.loops()[k];
+      e.from += offset[c];
+      e.to += offset[c];
+      graph.AddEdge(e);
+      candidates.push_back(candidate_of_own_[c][own_of_loop[k]]);
+    }
+  }
+  for (const Between& b : between_) {
+    const Candidate& c = candidates_[b.candidate];
+    if (!Exists(c.a) || !Exists(c.b)) continue;
+    Constraint<Pose> e;
+    e.from = offset[c.a.chain] + chains_[c.a.chain]->graph().IndexOf(c.a.id);
+    e.to = offset[c.b.chain] + chains_[c.b.chain]->graph().IndexOf(c.b.id);
+    e.measurement = b.measurement;
+    e.information = b.information;
+    graph.AddEdge(e);
+    candidates.push_back(b.candidate);
+  }
+  if (candidate_of_loop) *candidate_of_loop = std::move(candidates);
+  return graph;
+}
+
+template <class Pose>
+void ChainsVerifier<Pose>::SetState(int candidate, LoopState state,
+                                    std::vector<DecisionChange>* changes) {
+  Candidate& c = candidates_[candidate];
+  if (c.state == state) return;
+  changes->push_back({candidate, c.state, state});
+  c.state = state;
+}
+
+template <class Pose>
+std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
+  std::vector<DecisionChange> changes;
+  if (chains_.empty()) return changes;
+  bool own_changed = false;
+  for (int c = 0; c < num_chains(); ++c) {
+    MapVerifier<Pose>& chain = *chains_[c];
+    for (const DecisionChange& change :
+         finish ? chain.Finish() : chain.Update()) {
+      SetState(candidate_of_own_[c][change.candidate], change.current,
+               &changes);
+      own_changed = true;
+    }
+  }
+  // A loop between chains whose pose arrived takes part from now on.
+  int ready = 0;
+  for (const Between& b : between_) {
+    const Candidate& c = candidates_[b.candidate];
+    ready += Exists(c.a) && Exists(c.b);
+  }
+  if (ready != num_ready_judged_) between_changed_ = true;
+  if (finish || between_changed_ || (own_changed && !between_.empty())) {
+    JudgeBetween(finish, &changes);
+    num_ready_judged_ = ready;
+    between_changed_ = false;
+  }
+  finished_ = finish;
+  return changes;
+}
+
+template <class Pose>
+void ChainsVerifier<Pose>::JudgeBetween(bool finish,
+                                        std::vector<DecisionChange>* changes) {
+  std::vector<int> candidate_of_loop;
+  const PoseGraph<Pose> graph = Graph(&candidate_of_loop);
+  std::vector<ChainAlone<Pose>> alone(chains_.size());
+  int first_loop = 0;
+  for (size_t c = 0; c < chains_.size(); ++c) {
+    MapVerifier<Pose>* chain = chains_[c].get();
+    const int num_loops = static_cast<int>(chain->graph().loops().size());
+    std::vector<int> loop_of_candidate(chain->num_candidates());
+    for (int k = 0; k < chain->num_candidates(); ++k) {
+      loop_of_candidate[k] = chain->loop_of(k);
+    }
+    alone[c].verdict = VerdictOfVerifier(chain, loop_of_candidate, num_loops,
+                                         &alone[c].map, &alone[c].stats);
+    for (int k = 0; k < num_loops; ++k) alone[c].inside.push_back(first_loop++);
+  }
+  ChainsVerdict<Pose> judged = JudgeBetweenChains(graph, alone, options_);
+  std::vector<bool> accepted(graph.loops().size(), false);
+  for (const int k : judged.verdict.accepted) accepted[k] = true;
+  for (size_t k = first_loop; k < graph.loops().size(); ++k) {
+    Candidate& c = candidates_[candidate_of_loop[k]];
+    c.reason = judged.verdict.reasons[k];
+    const bool waits = !finish && c.reason.test == DecisionTest::kApart;
+    SetState(candidate_of_loop[k],
+             accepted[k] ? LoopState::kAccepted
+                         : (waits ? LoopState::kPending : LoopState::kRejected),
+             changes);
+  }
+  frames_.assign(chains_.size(), Pose());
+  for (int m = 0; m < num_chains(); ++m) {
+    const std::vector<Pose> frames = FramesIn(judged.pairs, num_chains(), m);
+    for (int c = 0; c < num_chains(); ++c) {
+      if (judged.map_of_chain[c] == m) frames_[c] = frames[c];
+    }
+  }
+  if (finish) MinimizeMaps(graph, judged.verdict.accepted, &judged);
+  judged_ = std::move(judged);
+}
+
+template class ChainsVerifier<Pose2>;
+template class ChainsVerifier<Pose3>;
+
+}  // namespace rrr

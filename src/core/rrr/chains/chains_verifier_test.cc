@@ -1,0 +1,288 @@
+#include "rrr/rrr/chains/chains_verifier.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+#include <vector>
+
+#include "../../testing/chain_worlds.h"
+#include "rrr/geometry/pose2.h"
+#include "rrr/graph/candidate_defect.h"
+#include "rrr/rrr/chains/verify_chains.h"
+
+namespace rrr {
+namespace {
+
+using testing::AppendChain;
+using testing::ChainWorldOptions;
+using testing::CutAt;
+using testing::Grid;
+using testing::ThreeSessionsWithAFalseJoin;
+using testing::TwoSessionsWithFalseLoops;
+
+using Changes = std::vector<DecisionChange>;
+
+// The pose of `graph` at index `p` as a pose of its chain.
+ChainPose At(const PoseGraph<Pose2>& graph, const std::vector<ChainSpan>& spans,
+             int p) {
+  return {ChainHolding(spans, p), graph.ids()[p]};
+}
+
+// Feeds the chains of `graph` to `verifier` as robots moving side by side
+// would: one pose of each chain in turn, each of `loops` (indices of
+// graph.loops(), every loop if empty) once both its poses exist, in their
+// order, Update() after every `update_every` rounds (calling `on_changes`
+// with its changes). Returns each fed loop's candidate number, by loop.
+std::map<int, int> FeedSideBySide(
+    const PoseGraph<Pose2>& graph, ChainsVerifier<Pose2>* verifier,
+    int update_every, std::vector<int> loops = {},
+    const std::function<void(const Changes&)>& on_changes = nullptr) {
+  const std::vector<ChainSpan> spans = ChainSpansOf(graph);
+  const int first_chain = verifier->num_chains();
+  std::map<int, const Constraint<Pose2>*> odometry_into;
+  for (const auto& e : graph.odometry()) odometry_into[e.to] = &e;
+  if (loops.empty()) {
+    for (size_t k = 0; k < graph.loops().size(); ++k) {
+      loops.push_back(static_cast<int>(k));
+    }
+  }
+  // A loop is fed in the round its later pose (counted in its chain) comes.
+  std::vector<std::pair<int, int>> by_round;  // (round, loop)
+  for (const int k : loops) {
+    const auto& e = graph.loops()[k];
+    const int round =
+        std::max(e.from - spans[ChainHolding(spans, e.from)].first,
+                 e.to - spans[ChainHolding(spans, e.to)].first);
+    by_round.emplace_back(round, k);
+  }
+  std::stable_sort(
+      by_round.begin(), by_round.end(),
+      [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::map<int, int> candidate_of_loop;
+  size_t next = 0;
+  int longest = 0;
+  for (const ChainSpan& span : spans) longest = std::max(longest, span.size());
+  for (int round = 0; round < longest; ++round) {
+    for (size_t c = 0; c < spans.size(); ++c) {
+      const int p = spans[c].first + round;
+      if (p > spans[c].last) continue;
+      if (round == 0) {
+        verifier->AddChain(graph.ids()[p], graph.estimates()[p]);
+      } else {
+        const Constraint<Pose2>& e = *odometry_into.at(p);
+        verifier->AddOdometry(first_chain + static_cast<int>(c), e.measurement,
+                              e.information);
+      }
+    }
+    for (; next < by_round.size() && by_round[next].first == round; ++next) {
+      const auto& e = graph.loops()[by_round[next].second];
+      ChainPose a = At(graph, spans, e.from), b = At(graph, spans, e.to);
+      a.chain += first_chain;
+      b.chain += first_chain;
+      candidate_of_loop[by_round[next].second] =
+          verifier->AddLoop(a, b, e.measurement, e.information);
+    }
+    if ((round + 1) % update_every == 0) {
+      const Changes changes = verifier->Update();
+      if (on_changes) on_changes(changes);
+    }
+  }
+  return candidate_of_loop;
+}
+
+// The candidates `verifier` accepted, ascending.
+std::vector<int> Accepted(const ChainsVerifier<Pose2>& verifier) {
+  std::vector<int> accepted;
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    if (verifier.state(c) == LoopState::kAccepted) accepted.push_back(c);
+  }
+  return accepted;
+}
+
+// The candidates VerifyChains accepts on the verifier's graph, ascending.
+std::vector<int> AcceptedByVerifyChains(const ChainsVerifier<Pose2>& verifier) {
+  std::vector<int> candidate_of_loop;
+  const PoseGraph<Pose2> graph = verifier.Graph(&candidate_of_loop);
+  std::vector<int> accepted;
+  for (const int k :
+       VerifyChains(graph, ChainWorldOptions()).verdict.accepted) {
+    accepted.push_back(candidate_of_loop[k]);
+  }
+  std::sort(accepted.begin(), accepted.end());
+  return accepted;
+}
+
+TEST(ChainsVerifier, TwoRobotsSideBySideAreJoinedAsVerifyChainsJoinsThem) {
+  // One world walked by two robots at once, the second starting where the
+  // first's pose 500 is (its odometry from zero), with 200 false loops
+  // between them.
+  const SimulatedWorld world = SimulateWorld(Grid(1000, 2));
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> two =
+      TwoSessionsWithFalseLoops(world, 500, &true_loops);
+  ChainsVerifier<Pose2> verifier(ChainWorldOptions());
+  const std::map<int, int> candidate_of_loop =
+      FeedSideBySide(two, &verifier, 10);
+  verifier.Finish();
+
+  ASSERT_EQ(verifier.num_chains(), 2);
+  EXPECT_EQ(verifier.map_of_chain(1), 0);
+  EXPECT_EQ(verifier.num_in_state(LoopState::kPending), 0);
+  EXPECT_EQ(Accepted(verifier), AcceptedByVerifyChains(verifier));
+  int true_accepted = 0;
+  for (const auto& [loop, candidate] : candidate_of_loop) {
+    const bool accepted = verifier.state(candidate) == LoopState::kAccepted;
+    if (static_cast<size_t>(loop) >= true_loops) {
+      EXPECT_FALSE(accepted) << "false loop " << loop;
+    }
+    true_accepted += accepted;
+  }
+  EXPECT_GE(true_accepted, 0.95 * static_cast<double>(true_loops));
+  // Its graph has no odometry between the robots.
+  const PoseGraph<Pose2> graph = verifier.Graph();
+  EXPECT_EQ(ChainSpansOf(graph).size(), 2u);
+  // The second robot placed where it started, relative to the first.
+  const Pose2 start = verifier.Map(0)[0].between(verifier.Map(1)[0]);
+  const Pose2 truth = world.truth[0].between(world.truth[500]);
+  EXPECT_LT((start.translation() - truth.translation()).norm(), 1.0);
+}
+
+TEST(ChainsVerifier, AJoinIsReversedWhenStrongerJoinsContradictIt) {
+  // Three sessions; first only the loops between the first two come, among
+  // them two false revisits that agree on one wrong placement: they join
+  // the two. Then the true loops of the third with each come: those joins,
+  // on more evidence, put all three in one map that refutes the first join,
+  // and its loops change from accepted to refused.
+  const SimulatedWorld world = SimulateWorld(Grid(1500, 3));
+  const std::vector<int> cuts = {500, 1000};
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> three =
+      ThreeSessionsWithAFalseJoin(world, cuts, &true_loops);
+  const std::vector<ChainSpan> spans = ChainSpansOf(three);
+  std::vector<int> first, later;
+  for (size_t k = 0; k < three.loops().size(); ++k) {
+    const auto& e = three.loops()[k];
+    const int a = ChainHolding(spans, e.from), b = ChainHolding(spans, e.to);
+    (a == b || std::max(a, b) < 2 ? first : later)
+        .push_back(static_cast<int>(k));
+  }
+  ChainsVerifier<Pose2> verifier(ChainWorldOptions());
+  std::map<int, int> candidate_of_loop =
+      FeedSideBySide(three, &verifier, 10, first);
+  verifier.Update();
+  ASSERT_EQ(verifier.map_of_chain(1), 0) << "the false join to reverse";
+  std::vector<int> falsely_accepted;
+  for (const auto& [loop, candidate] : candidate_of_loop) {
+    if (static_cast<size_t>(loop) >= true_loops &&
+        verifier.state(candidate) == LoopState::kAccepted) {
+      falsely_accepted.push_back(candidate);
+    }
+  }
+  ASSERT_FALSE(falsely_accepted.empty());
+
+  // The later loops, as candidates that name poses that exist.
+  for (const int k : later) {
+    const auto& e = three.loops()[k];
+    candidate_of_loop[k] =
+        verifier.AddLoop(At(three, spans, e.from), At(three, spans, e.to),
+                         e.measurement, e.information);
+  }
+  const Changes changes = verifier.Update();
+  for (const int candidate : falsely_accepted) {
+    EXPECT_EQ(verifier.state(candidate), LoopState::kRejected);
+    const auto change = std::find_if(
+        changes.begin(), changes.end(),
+        [&](const DecisionChange& c) { return c.candidate == candidate; });
+    ASSERT_NE(change, changes.end()) << "candidate " << candidate;
+    EXPECT_EQ(change->previous, LoopState::kAccepted);
+  }
+  EXPECT_EQ(verifier.map_of_chain(2), 0);
+  verifier.Finish();
+  for (const auto& [loop, candidate] : candidate_of_loop) {
+    if (static_cast<size_t>(loop) >= true_loops) {
+      EXPECT_NE(verifier.state(candidate), LoopState::kAccepted) << loop;
+    }
+  }
+  EXPECT_EQ(Accepted(verifier), AcceptedByVerifyChains(verifier));
+}
+
+TEST(ChainsVerifier, LoopsBetweenRobotsNeverJoinedWaitUntilFinishRefusesThem) {
+  // Two robots in two different worlds, 100 false loops between them.
+  PoseGraph<Pose2> apart;
+  AppendChain(SimulateWorld(Grid(400, 5)), Pose2(), &apart);
+  AppendChain(SimulateWorld(Grid(400, 6)), Pose2(3.0, 1.0, 0.5), &apart);
+  const size_t true_loops = apart.loops().size();
+  FalseLoopOptions spoil;
+  spoil.count = 100;
+  spoil.between_chains = true;
+  spoil.seed = 7;
+  AddFalseLoops(&apart, spoil);
+  ChainsVerifier<Pose2> verifier(ChainWorldOptions());
+  const std::map<int, int> candidate_of_loop =
+      FeedSideBySide(apart, &verifier, 10);
+  // During the run: a loop a cluster's own links refute is refused, the
+  // others wait, since nothing can confirm them.
+  int waiting = 0;
+  for (const auto& [loop, candidate] : candidate_of_loop) {
+    if (static_cast<size_t>(loop) < true_loops) continue;
+    const DecisionTest test = verifier.reason(candidate).test;
+    if (verifier.state(candidate) == LoopState::kPending) {
+      EXPECT_EQ(test, DecisionTest::kApart) << ToString(test);
+      ++waiting;
+    } else {
+      EXPECT_EQ(verifier.state(candidate), LoopState::kRejected) << loop;
+      EXPECT_TRUE(test == DecisionTest::kOwn || test == DecisionTest::kOwnLink)
+          << ToString(test);
+    }
+  }
+  EXPECT_GT(waiting, 50);
+  verifier.Finish();
+  EXPECT_EQ(verifier.map_of_chain(1), 1);
+  for (const auto& [loop, candidate] : candidate_of_loop) {
+    if (static_cast<size_t>(loop) < true_loops) continue;
+    EXPECT_EQ(verifier.state(candidate), LoopState::kRejected) << loop;
+  }
+  EXPECT_EQ(Accepted(verifier), AcceptedByVerifyChains(verifier));
+}
+
+TEST(ChainsVerifier, CandidatesBetweenChainsWaitForTheirPosesOrAreRefused) {
+  ChainsVerifier<Pose2> verifier(ChainWorldOptions());
+  const Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
+  verifier.AddChain(0, Pose2());
+  verifier.AddChain(100, Pose2(5.0, 0.0, 0.0));
+  for (int k = 0; k < 5; ++k) {
+    verifier.AddOdometry(0, Pose2(1.0, 0.0, 0.0), information);
+  }
+  const Pose2 z(2.0, 0.0, 0.0);
+  const int waits = verifier.AddLoop({0, 3}, {1, 102}, z, information);
+  EXPECT_EQ(verifier.Graph().loops().size(), 0u) << "pose 102 not there";
+  verifier.AddOdometry(1, Pose2(1.0, 0.0, 0.0), information);
+  verifier.AddOdometry(1, Pose2(1.0, 0.0, 0.0), information);
+  EXPECT_EQ(verifier.Graph().loops().size(), 1u);
+  EXPECT_EQ(verifier.state(waits), LoopState::kPending);
+
+  const auto defect = [&](ChainPose a, ChainPose b) {
+    try {
+      verifier.AddLoop(a, b, z, information);
+    } catch (const DegenerateCandidate& e) {
+      return e.defect();
+    }
+    ADD_FAILURE() << "accepted as a candidate";
+    return CandidateDefect::kSelfLoop;
+  };
+  EXPECT_EQ(defect({0, 3}, {1, 102}), CandidateDefect::kDuplicate);
+  EXPECT_EQ(defect({0, 3}, {1, 99}), CandidateDefect::kUnknownPose);
+  EXPECT_EQ(defect({0, 3}, {1, 5000}), CandidateDefect::kTooFarAhead);
+  EXPECT_EQ(defect({0, 2}, {0, 3}), CandidateDefect::kConsecutivePoses);
+  EXPECT_THROW(verifier.AddLoop({0, 3}, {2, 0}, z, information),
+               std::out_of_range);
+  EXPECT_THROW(verifier.AddOdometry(2, z, information), std::out_of_range);
+  EXPECT_EQ(verifier.num_candidates(), 1);
+}
+
+}  // namespace
+}  // namespace rrr
