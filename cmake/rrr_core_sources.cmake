@@ -46,6 +46,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/map/map_verifier_state.cc
   src/core/rrr/map/noise_scale.cc
   src/core/rrr/map/verify_with_map.cc
+  src/core/fleet/fleet.cc
   src/core/rrr/chains/chains_verifier.cc
   src/core/rrr/chains/verify_chains.cc
   src/core/session/sqlite_db.cc

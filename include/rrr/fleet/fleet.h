@@ -1,0 +1,134 @@
+// A fleet of robots as a verifier node sees them: each robot's odometry
+// readings, its sessions and keyframes, and the loop candidates within and
+// between robots, judged by one ChainsVerifier. Nothing here knows ROS.
+#ifndef RRR_FLEET_FLEET_H_
+#define RRR_FLEET_FLEET_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rrr/graph/keyframe_track.h"
+#include "rrr/graph/odometry_noise.h"
+#include "rrr/rrr/chains/chains_verifier.h"
+#include "rrr/rrr/options.h"
+
+namespace rrr {
+
+// How a fleet turns readings into keyframes and sessions.
+struct FleetOptions {
+  RrrOptions rrr;
+  // A reading makes a keyframe when it moved more than these from the
+  // newest (both 0: every reading does); see KeyframeTrack.
+  double keyframe_translation = 0.0;
+  double keyframe_rotation = 0.0;
+  // A reading that moved more than this many metres from the robot's last
+  // reading (not keyframe) is no motion a robot makes between two readings:
+  // its odometry restarted (at zero, typically) and it starts a new
+  // session. 0 turns the test off.
+  double restart_jump = 1.0;
+  // Whether odometry edges take their information from the readings'
+  // covariances (OdometryNoiseModel); with `odometry_information` the
+  // information of one metre or radian of motion.
+  bool use_odometry_covariance = true;
+  Eigen::Matrix<double, 6, 6> odometry_information =
+      Eigen::Matrix<double, 6, 6>::Identity() * 100.0;
+};
+
+// The robots named at construction, each with its sessions: a session is one
+// odometry chain of the verifier, joined to the others only by loop closures
+// (never by an odometry edge that did not happen). A robot's keyframes are
+// numbered 0, 1, ... over all its sessions; a candidate names robot and
+// keyframe at both ends.
+template <class Pose>
+class Fleet {
+ public:
+  using Information = typename Constraint<Pose>::Information;
+
+  // What AddReading made of a reading.
+  struct Taken {
+    std::string problem;       // why it was refused; "" if it was not
+    bool keyframe = false;     // it became a keyframe (id `id`)
+    bool new_session = false;  // it started a session (of `chain`)
+    std::int64_t id = -1;
+    int chain = -1;
+  };
+
+  // Throws std::invalid_argument for no robot, a name repeated or empty, or
+  // options that do not validate.
+  Fleet(std::vector<std::string> robots, const FleetOptions& options);
+
+  // Index of robot `name`, or -1.
+  int RobotIndex(const std::string& name) const;
+  const std::vector<std::string>& robots() const { return robots_; }
+
+  // Takes robot `robot`'s next odometry reading (its pose in the robot's
+  // odometry frame). The first reading, one after StartSession(), one
+  // stamped before the robot's last reading, or one further than
+  // restart_jump from it starts a new session. Throws std::out_of_range for
+  // a robot that does not exist.
+  Taken AddReading(int robot, const KeyframeRecord<Pose>& reading);
+  // The robot's next reading starts a new session (a restart the odometry
+  // does not show, as after a node restart).
+  void StartSession(int robot);
+
+  // Adds the candidate z ≈ x_a⁻¹ · x_b between keyframe `id_a` of robot
+  // `robot_a` and `id_b` of `robot_b` and returns its number. A keyframe not
+  // there yet is taken as one of the robot's current session (it waits for
+  // it). Throws DegenerateCandidate as ChainsVerifier::AddLoop (keeping
+  // nothing), and std::out_of_range for a robot that does not exist or has
+  // no session yet.
+  int AddLoop(int robot_a, std::int64_t id_a, int robot_b, std::int64_t id_b,
+              const Pose& z, const Information& information);
+
+  std::vector<DecisionChange> Update();
+  std::vector<DecisionChange> Finish();
+
+  const ChainsVerifier<Pose>& verifier() const { return verifier_; }
+  // The robot and session of chain `chain`.
+  int robot_of_chain(int chain) const { return robot_of_chain_.at(chain); }
+  // The robot's sessions (chains), oldest first.
+  const std::vector<int>& sessions(int robot) const {
+    return sessions_.at(robot);
+  }
+  // The map the robot's current session is in (its lowest chain; see
+  // ChainsVerifier::map_of_chain), or -1 before its first reading.
+  int MapOfRobot(int robot) const;
+  // The transform from the robot's odometry frame to its map's frame (the
+  // correction of its newest keyframe), as of the last Update(); nothing
+  // before its first keyframe.
+  std::optional<Pose> MapToOdom(int robot) const;
+  // The corrected poses of the robot's keyframes of the sessions in map
+  // `map`, oldest first, as of the last Update() (keyframes added since
+  // follow their odometry).
+  std::vector<Pose> Path(int robot, int map) const;
+
+ private:
+  struct Session {
+    int chain;
+    std::int64_t first_id;
+    KeyframeTrack<Pose> track;  // its keyframes as odometry reported them
+    std::vector<Pose> map;      // their corrected poses, in their map's frame
+  };
+  // Refreshes every session's corrected poses from the verifier's maps.
+  void RefreshMaps();
+  // The session of robot `robot` holding keyframe `id` (the current one for
+  // an id past its newest).
+  const Session& SessionHolding(int robot, std::int64_t id) const;
+
+  std::vector<std::string> robots_;
+  FleetOptions options_;
+  OdometryNoiseModel<Pose> noise_;
+  ChainsVerifier<Pose> verifier_;
+  std::vector<Session> sessions_by_chain_;
+  std::vector<int> robot_of_chain_;
+  std::vector<std::vector<int>> sessions_;  // chains, by robot
+  std::vector<std::int64_t> next_id_;       // by robot
+  std::vector<bool> restart_;               // by robot
+  std::vector<std::optional<KeyframeRecord<Pose>>> last_reading_;  // by robot
+};
+
+}  // namespace rrr
+
+#endif  // RRR_FLEET_FLEET_H_

@@ -1,0 +1,190 @@
+#include "rrr/fleet/fleet.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+
+namespace rrr {
+namespace {
+
+// The information of one unit of motion for `Pose` from the 6-DoF one:
+// x, y, yaw for a 2D pose.
+template <class Pose>
+typename Constraint<Pose>::Information PerUnit(
+    const Eigen::Matrix<double, 6, 6>& information) {
+  if constexpr (Pose::kDof == 6) {
+    return information;
+  } else {
+    const int kept[3] = {0, 1, 5};
+    typename Constraint<Pose>::Information out;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) out(r, c) = information(kept[r], kept[c]);
+    }
+    return out;
+  }
+}
+
+}  // namespace
+
+template <class Pose>
+Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
+    : robots_(std::move(robots)),
+      options_(options),
+      noise_(PerUnit<Pose>(options.odometry_information), 0.01),
+      verifier_(options.rrr),
+      sessions_(robots_.size()),
+      next_id_(robots_.size(), 0),
+      restart_(robots_.size(), false),
+      last_reading_(robots_.size()) {
+  if (robots_.empty()) throw std::invalid_argument("a fleet needs a robot");
+  for (size_t r = 0; r < robots_.size(); ++r) {
+    if (robots_[r].empty()) {
+      throw std::invalid_argument("robot " + std::to_string(r) +
+                                  " has an empty name");
+    }
+    if (std::count(robots_.begin(), robots_.end(), robots_[r]) > 1) {
+      throw std::invalid_argument("robot '" + robots_[r] + "' is named twice");
+    }
+  }
+  if (options.restart_jump < 0.0) {
+    throw std::invalid_argument("restart_jump must not be negative");
+  }
+}
+
+template <class Pose>
+int Fleet<Pose>::RobotIndex(const std::string& name) const {
+  const auto it = std::find(robots_.begin(), robots_.end(), name);
+  return it == robots_.end() ? -1 : static_cast<int>(it - robots_.begin());
+}
+
+template <class Pose>
+void Fleet<Pose>::StartSession(int robot) {
+  restart_.at(robot) = true;
+}
+
+template <class Pose>
+typename Fleet<Pose>::Taken Fleet<Pose>::AddReading(
+    int robot, const KeyframeRecord<Pose>& reading) {
+  Taken taken;
+  const std::optional<KeyframeRecord<Pose>>& last = last_reading_.at(robot);
+  const bool restarts =
+      !last || restart_[robot] || reading.stamp_ns < last->stamp_ns ||
+      (options_.restart_jump > 0.0 &&
+       (last->odometry_pose.between(reading.odometry_pose).translation())
+               .norm() > options_.restart_jump);
+  if (restarts) {
+    const int chain =
+        verifier_.AddChain(next_id_[robot], reading.odometry_pose);
+    sessions_by_chain_.push_back(
+        {chain,
+         next_id_[robot],
+         KeyframeTrack<Pose>(options_.keyframe_translation,
+                             options_.keyframe_rotation, 0),
+         {reading.odometry_pose}});
+    sessions_by_chain_.back().track.Append(reading);
+    robot_of_chain_.push_back(robot);
+    sessions_[robot].push_back(chain);
+    restart_[robot] = false;
+    taken.keyframe = taken.new_session = true;
+    taken.chain = chain;
+    taken.id = next_id_[robot]++;
+    last_reading_[robot] = reading;
+    return taken;
+  }
+  Session& session = sessions_by_chain_[sessions_[robot].back()];
+  const auto judged = session.track.Judge(reading);
+  if (!judged.problem.empty()) {
+    taken.problem = judged.problem;
+    return taken;
+  }
+  last_reading_[robot] = reading;
+  if (!judged.keyframe) return taken;
+  const KeyframeRecord<Pose> newest = session.track.newest();
+  const Information information = noise_.EdgeInformation(
+      newest.odometry_pose, newest.covariance, reading.odometry_pose,
+      reading.covariance, options_.use_odometry_covariance);
+  verifier_.AddOdometry(session.chain, judged.motion, information);
+  session.track.Append(reading);
+  session.map.push_back(session.map.back() * judged.motion);
+  taken.keyframe = true;
+  taken.chain = session.chain;
+  taken.id = next_id_[robot]++;
+  return taken;
+}
+
+template <class Pose>
+const typename Fleet<Pose>::Session& Fleet<Pose>::SessionHolding(
+    int robot, std::int64_t id) const {
+  const std::vector<int>& chains = sessions_.at(robot);
+  if (chains.empty()) {
+    throw std::out_of_range("robot '" + robots_[robot] +
+                            "' has no keyframe yet");
+  }
+  for (auto c = chains.rbegin(); c != chains.rend(); ++c) {
+    if (sessions_by_chain_[*c].first_id <= id) return sessions_by_chain_[*c];
+  }
+  return sessions_by_chain_[chains.front()];  // before its first: refused
+}
+
+template <class Pose>
+int Fleet<Pose>::AddLoop(int robot_a, std::int64_t id_a, int robot_b,
+                         std::int64_t id_b, const Pose& z,
+                         const Information& information) {
+  const Session& a = SessionHolding(robot_a, id_a);
+  const Session& b = SessionHolding(robot_b, id_b);
+  return verifier_.AddLoop({a.chain, id_a}, {b.chain, id_b}, z, information);
+}
+
+template <class Pose>
+std::vector<DecisionChange> Fleet<Pose>::Update() {
+  std::vector<DecisionChange> changes = verifier_.Update();
+  RefreshMaps();
+  return changes;
+}
+
+template <class Pose>
+std::vector<DecisionChange> Fleet<Pose>::Finish() {
+  std::vector<DecisionChange> changes = verifier_.Finish();
+  RefreshMaps();
+  return changes;
+}
+
+template <class Pose>
+void Fleet<Pose>::RefreshMaps() {
+  for (Session& session : sessions_by_chain_) {
+    session.map = verifier_.Map(session.chain);
+  }
+}
+
+template <class Pose>
+int Fleet<Pose>::MapOfRobot(int robot) const {
+  const std::vector<int>& chains = sessions_.at(robot);
+  return chains.empty() ? -1 : verifier_.map_of_chain(chains.back());
+}
+
+template <class Pose>
+std::optional<Pose> Fleet<Pose>::MapToOdom(int robot) const {
+  const std::vector<int>& chains = sessions_.at(robot);
+  if (chains.empty()) return std::nullopt;
+  const Session& session = sessions_by_chain_[chains.back()];
+  return session.map.back() * session.track.newest().odometry_pose.inverse();
+}
+
+template <class Pose>
+std::vector<Pose> Fleet<Pose>::Path(int robot, int map) const {
+  std::vector<Pose> path;
+  for (const int chain : sessions_.at(robot)) {
+    if (verifier_.map_of_chain(chain) != map) continue;
+    const std::vector<Pose>& poses = sessions_by_chain_[chain].map;
+    path.insert(path.end(), poses.begin(), poses.end());
+  }
+  return path;
+}
+
+template class Fleet<Pose2>;
+template class Fleet<Pose3>;
+
+}  // namespace rrr
