@@ -4,9 +4,11 @@
 #ifndef RRR_RRR_CHAINS_CHAINS_VERIFIER_H_
 #define RRR_RRR_CHAINS_CHAINS_VERIFIER_H_
 
+#include <functional>
 #include <memory>
 #include <vector>
 
+#include "rrr/graph/chain_spans.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/rrr/chains/verify_chains.h"
 #include "rrr/rrr/decision_reason.h"
@@ -130,6 +132,20 @@ class ChainsVerifier {
   std::vector<Pose> frames_;      // each chain's frame in its map's
   bool finished_ = false;         // judged_.estimates minimized
 };
+
+// Feeds the chains of `graph` (ChainSpansOf) to `verifier` as robots moving
+// side by side would: one pose of each chain in turn (each a new chain of
+// `verifier`, in order), each of `loops` (indices of graph.loops(); every
+// loop if empty) in the round its later pose comes, in their order, and
+// Update() after every `update_every` rounds (calling `on_changes` with its
+// changes). Finish() is left to the caller. Returns each fed loop's
+// candidate number, by loop index (-1 for a loop not fed).
+template <class Pose>
+std::vector<int> FeedSideBySide(
+    const PoseGraph<Pose>& graph, ChainsVerifier<Pose>* verifier,
+    int update_every, std::vector<int> loops = {},
+    const std::function<void(const std::vector<DecisionChange>&)>& on_changes =
+        nullptr);
 
 }  // namespace rrr
 

@@ -268,7 +268,69 @@ void ChainsVerifier<Pose>::JudgeBetween(bool finish,
   judged_ = std::move(judged);
 }
 
+template <class Pose>
+std::vector<int> FeedSideBySide(
+    const PoseGraph<Pose>& graph, ChainsVerifier<Pose>* verifier,
+    int update_every, std::vector<int> loops,
+    const std::function<void(const std::vector<DecisionChange>&)>& on_changes) {
+  const std::vector<ChainSpan> spans = ChainSpansOf(graph);
+  const std::vector<OdometryChain<Pose>> odometry = OdometryOf(graph, spans);
+  const int first_chain = verifier->num_chains();
+  if (loops.empty()) {
+    for (size_t k = 0; k < graph.loops().size(); ++k) {
+      loops.push_back(static_cast<int>(k));
+    }
+  }
+  // A pose of `graph` as a pose of its chain, in the rounds counted in it.
+  const auto at = [&](int p) {
+    const int c = ChainHolding(spans, p);
+    return std::pair(ChainPose{first_chain + c, graph.ids()[p]},
+                     p - spans[c].first);
+  };
+  std::vector<std::pair<int, int>> by_round;  // (round, loop)
+  for (const int k : loops) {
+    const auto& e = graph.loops()[k];
+    by_round.emplace_back(std::max(at(e.from).second, at(e.to).second), k);
+  }
+  std::stable_sort(
+      by_round.begin(), by_round.end(),
+      [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<int> candidate_of_loop(graph.loops().size(), -1);
+  size_t next = 0;
+  int longest = 0;
+  for (const ChainSpan& span : spans) longest = std::max(longest, span.size());
+  for (int round = 0; round < longest; ++round) {
+    for (size_t c = 0; c < spans.size(); ++c) {
+      const int p = spans[c].first + round;
+      if (p > spans[c].last) continue;
+      if (round == 0) {
+        verifier->AddChain(graph.ids()[p], graph.estimates()[p]);
+      } else {
+        const Constraint<Pose> step = odometry[c].Between(round - 1, round);
+        verifier->AddOdometry(first_chain + static_cast<int>(c),
+                              step.measurement, step.information);
+      }
+    }
+    for (; next < by_round.size() && by_round[next].first == round; ++next) {
+      const auto& e = graph.loops()[by_round[next].second];
+      candidate_of_loop[by_round[next].second] = verifier->AddLoop(
+          at(e.from).first, at(e.to).first, e.measurement, e.information);
+    }
+    if ((round + 1) % update_every == 0) {
+      const std::vector<DecisionChange> changes = verifier->Update();
+      if (on_changes) on_changes(changes);
+    }
+  }
+  return candidate_of_loop;
+}
+
 template class ChainsVerifier<Pose2>;
 template class ChainsVerifier<Pose3>;
+template std::vector<int> FeedSideBySide(
+    const PoseGraph<Pose2>&, ChainsVerifier<Pose2>*, int, std::vector<int>,
+    const std::function<void(const std::vector<DecisionChange>&)>&);
+template std::vector<int> FeedSideBySide(
+    const PoseGraph<Pose3>&, ChainsVerifier<Pose3>*, int, std::vector<int>,
+    const std::function<void(const std::vector<DecisionChange>&)>&);
 
 }  // namespace rrr

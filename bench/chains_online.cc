@@ -1,0 +1,122 @@
+// The map procedure over several chains over time (ChainsVerifier), as a
+// fleet's verifier node runs it: a g2o file of several odometry chains fed
+// robot by robot side by side, one pose of each chain per round, each loop
+// in the round of its later pose, an update after every round. Prints, as
+// one JSON line, the time of the updates (median, 99th percentile, largest),
+// of Finish(), the decisions, and whether they equal VerifyChains' on the
+// verifier's graph (the batch that `rrr verify` runs), with its time.
+//
+//     chains_online FILE.g2o [--window N]
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/chains/chains_verifier.h"
+#include "rrr/rrr/chains/verify_chains.h"
+
+namespace rrr {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+// The q-quantile of `values` (nearest rank), 0 if there are none.
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const size_t rank = static_cast<size_t>(q * (values.size() - 1) + 0.5);
+  return values[rank];
+}
+
+template <class Pose>
+nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options) {
+  ChainsVerifier<Pose> verifier(options);
+  std::vector<double> updates;
+  // FeedSideBySide reports each update's changes when it returns; the time
+  // between two reports is one round's inputs and its update.
+  Clock::time_point last = Clock::now();
+  const Clock::time_point start = last;
+  FeedSideBySide(graph, &verifier, 1, {},
+                 [&](const std::vector<DecisionChange>&) {
+                   updates.push_back(Seconds(last));
+                   last = Clock::now();
+                 });
+  const Clock::time_point finish_start = Clock::now();
+  verifier.Finish();
+  const double finish = Seconds(finish_start);
+  const double online = Seconds(start);
+
+  std::vector<int> candidate_of_loop;
+  const PoseGraph<Pose> recorded = verifier.Graph(&candidate_of_loop);
+  const Clock::time_point batch_start = Clock::now();
+  const ChainsVerdict<Pose> batch = VerifyChains(recorded, options);
+  const double batch_seconds = Seconds(batch_start);
+  std::vector<int> batch_accepted;
+  for (const int k : batch.verdict.accepted) {
+    batch_accepted.push_back(candidate_of_loop[k]);
+  }
+  std::sort(batch_accepted.begin(), batch_accepted.end());
+  std::vector<int> accepted;
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    if (verifier.state(c) == LoopState::kAccepted) accepted.push_back(c);
+  }
+  int maps = 0;
+  for (int c = 0; c < verifier.num_chains(); ++c) {
+    maps += verifier.map_of_chain(c) == c;
+  }
+  nlohmann::json out;
+  out["chains"] = verifier.num_chains();
+  out["maps"] = maps;
+  out["candidates"] = verifier.num_candidates();
+  out["accepted"] = accepted.size();
+  out["updates"] = updates.size();
+  out["update_median_ms"] = 1e3 * Quantile(updates, 0.5);
+  out["update_p99_ms"] = 1e3 * Quantile(updates, 0.99);
+  out["update_max_ms"] = 1e3 * Quantile(updates, 1.0);
+  out["finish_s"] = finish;
+  out["online_s"] = online;
+  out["batch_s"] = batch_seconds;
+  out["equal_to_batch"] = accepted == batch_accepted;
+  return out;
+}
+
+}  // namespace
+}  // namespace rrr
+
+int main(int argc, char** argv) {
+  const std::string usage = "usage: chains_online FILE.g2o [--window N]\n";
+  if (argc != 2 && argc != 4) {
+    std::cerr << usage;
+    return 2;
+  }
+  rrr::RrrOptions options;
+  options.cluster_window = 10;
+  if (argc == 4) {
+    if (std::string(argv[2]) != "--window") {
+      std::cerr << usage;
+      return 2;
+    }
+    options.cluster_window = std::atoi(argv[3]);
+  }
+  try {
+    const rrr::G2oFile file = rrr::ReadG2o(argv[1]);
+    const nlohmann::json result = std::visit(
+        [&](const auto& g) { return rrr::Run(g, options); }, file.graph);
+    std::cout << result.dump() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "chains_online: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
