@@ -79,6 +79,9 @@ struct MapVerifierStats {
 //     with it, not because the gates widened: accepting is the risky way.
 // With an estimated scale, no cluster is judged before
 // NoiseScaleEstimate::kMinLoopSamples loops have sampled it (or Finish()).
+// The clusters ready at a pose are judged once the next pose exists (or at
+// Finish()), with the candidates that came by then: so those of a pose that
+// arrive after it, on a topic of their own, still join their clusters.
 // Decisions depend only on the inputs and their order, not on when Update()
 // is called, so running it after every pose (VerifyWithMap) gives the
 // node's decisions.
@@ -145,10 +148,16 @@ class MapVerifier : public OnlineVerifier<Pose> {
 
   // map_verifier.cc: the record, the inputs and the map.
   std::vector<DecisionChange> Judge(bool finish);
-  // Takes the graph's new poses and loops in.
-  void Catch();
-  // The pose index at which pending cluster `c` is judged, or -1 if not yet.
-  int DecisionPose(int c, bool finish) const;
+  // Takes the graph's new poses up to index `until` in, and the new loops
+  // that arrived by then (poses_at_arrival), in order; every new pose and
+  // loop if `until` is the newest.
+  void Catch(int until);
+  // Judges the pending clusters ready as of pose `newest` (all with
+  // `finish`), in the order of their decision poses.
+  void JudgeReady(int newest, bool finish);
+  // The pose index at which pending cluster `c` is judged when the newest
+  // pose is `newest`, or -1 if not yet.
+  int DecisionPose(int c, int newest, bool finish) const;
   // Records why `loop` is in its state, by `test` of `statistic` over
   // `dof` (the gate and scale in force, and the decision pose).
   void Record(int loop, DecisionTest test, double statistic, int dof);
@@ -225,6 +234,7 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::unique_ptr<MaintainedMap<Pose>> map_;
   NoiseScaleEstimate scale_;
   int decision_pose_ = 0;  // of the decision being made
+  int judged_until_ = -1;  // the clusters ready up to this pose are judged
   int accepted_since_optimize_ = 0;
   int accepted_clusters_ = 0;  // acceptances so far (with re-acceptances)
   bool arbiter_due_ = false;

@@ -95,15 +95,17 @@ double MapVerifier<Pose>::Significant() const {
 }
 
 template <class Pose>
-void MapVerifier<Pose>::Catch() {
+void MapVerifier<Pose>::Catch(int until) {
   const PoseGraph<Pose>& graph = this->graph();
   if (graph.num_poses() == 0) return;
+  const bool everything = until >= graph.num_poses() - 1;
   if (!map_) {
     map_ = std::make_unique<MaintainedMap<Pose>>(
         graph, chain_, options_.convergence, options_.map_junctions);
   }
   // The verifier's graph has one forward odometry edge per pose, in order.
-  for (int k = chain_.num_poses(); k < graph.num_poses(); ++k) {
+  for (int k = chain_.num_poses(); k <= std::min(until, graph.num_poses() - 1);
+       ++k) {
     const auto& e = graph.odometry()[k - 1];
     chain_.Append(e.measurement, e.information);
   }
@@ -111,6 +113,7 @@ void MapVerifier<Pose>::Catch() {
       static_cast<PoseId>(kClusterSpanWindows) * options_.cluster_window;
   for (int loop = static_cast<int>(this->cluster_of_loop_.size());
        loop < static_cast<int>(graph.loops().size()); ++loop) {
+    if (!everything && this->poses_at_arrival(loop) - 1 > until) break;
     const auto& e = graph.loops()[loop];
     const CondensedErrors alone =
         SolveCondensed(graph, chain_, {loop}, options_.convergence);
@@ -135,13 +138,12 @@ void MapVerifier<Pose>::Catch() {
       records_[c].ready_pose = this->poses_at_arrival(loop) - 1;
     }
   }
-  scale_.RecordUntil(graph.num_poses());
+  scale_.RecordUntil(chain_.num_poses());
 }
 
 template <class Pose>
-int MapVerifier<Pose>::DecisionPose(int c, bool finish) const {
+int MapVerifier<Pose>::DecisionPose(int c, int newest, bool finish) const {
   const PoseGraph<Pose>& graph = this->graph();
-  const int newest = graph.num_poses() - 1;
   int pose = records_[c].ready_pose;
   if (pose < 0) {
     pose = graph.IndexOf(clustering_.clusters()[c].start_high) +
@@ -159,12 +161,35 @@ int MapVerifier<Pose>::DecisionPose(int c, bool finish) const {
 
 template <class Pose>
 std::vector<DecisionChange> MapVerifier<Pose>::Judge(bool finish) {
-  Catch();
+  // As if updated after every pose, each pose once the next one exists (or
+  // at Finish()): the loops that came by then taken in, and the clusters
+  // ready there judged. Waiting for the next pose lets the candidates of a
+  // pose that come after it (on another topic) join their clusters first.
+  const int newest = this->graph().num_poses() - 1;
+  for (int p = judged_until_ + 1; p < newest; ++p) {
+    Catch(p);
+    JudgeReady(p, false);
+    judged_until_ = p;
+  }
+  if (finish && newest >= 0) {
+    Catch(newest);
+    JudgeReady(newest, false);
+    JudgeReady(newest, true);
+    judged_until_ = newest;
+    decision_pose_ = newest;
+    OptimizeMap();
+    Arbitrate();
+  }
+  return PublishStates();
+}
+
+template <class Pose>
+void MapVerifier<Pose>::JudgeReady(int newest, bool finish) {
   const auto& clusters = clustering_.clusters();
   std::vector<std::pair<int, int>> ready;  // (decision pose, cluster)
   auto still_pending = pending_.begin();
   for (const int c : pending_) {
-    const int pose = DecisionPose(c, finish);
+    const int pose = DecisionPose(c, newest, finish);
     if (pose >= 0) {
       ready.emplace_back(pose, c);
     } else {
@@ -182,24 +207,18 @@ std::vector<DecisionChange> MapVerifier<Pose>::Judge(bool finish) {
     JudgeCluster(c);
     Arbitrate();
   }
-  if (finish) {
-    decision_pose_ = this->graph().num_poses() - 1;
-    OptimizeMap();
-    Arbitrate();
-  }
-  return PublishStates();
 }
 
 template <class Pose>
 std::vector<Pose> MapVerifier<Pose>::Map() {
-  Catch();
+  Catch(this->graph().num_poses() - 1);
   if (!map_) return {};
   return map_->Estimates();
 }
 
 template <class Pose>
 std::vector<Pose> MapVerifier<Pose>::MapAt(const std::vector<int>& poses) {
-  Catch();
+  Catch(this->graph().num_poses() - 1);
   std::vector<Pose> out;
   out.reserve(poses.size());
   for (const int p : poses) {

@@ -10,7 +10,7 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 2";
+constexpr char kStateFormat[] = "rrr map procedure state, version 3";
 
 // The options that decisions depend on, as bytes: a state saved under
 // others is not restored.
@@ -89,9 +89,9 @@ std::string MapVerifier<Pose>::SaveState() const {
   if (map_) map_->Save(&out);
   scale_.Save(&out);
   for (const int v :
-       {decision_pose_, accepted_since_optimize_, accepted_clusters_,
-        static_cast<int>(arbiter_due_), stats_.own_solves, stats_.trials,
-        stats_.quick_accepts, stats_.reversals, stats_.rejudged,
+       {decision_pose_, judged_until_, accepted_since_optimize_,
+        accepted_clusters_, static_cast<int>(arbiter_due_), stats_.own_solves,
+        stats_.trials, stats_.quick_accepts, stats_.reversals, stats_.rejudged,
         stats_.optimizations, stats_.not_converged}) {
     out.Int(v);
   }
@@ -154,8 +154,8 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
     map_->Restore(&in);
   }
   scale_.Restore(&in);
-  for (int* v :
-       {&decision_pose_, &accepted_since_optimize_, &accepted_clusters_}) {
+  for (int* v : {&decision_pose_, &judged_until_, &accepted_since_optimize_,
+                 &accepted_clusters_}) {
     *v = static_cast<int>(in.Int("a counter"));
   }
   arbiter_due_ = in.Int("whether the arbiter is due") != 0;

@@ -170,6 +170,19 @@ TEST(MapVerifier, DecisionsDoNotDependOnWhenUpdatesRun) {
   EXPECT_FALSE(every_pose.Accepted().empty());
   EXPECT_EQ(every_13.Accepted(), every_pose.Accepted());
   EXPECT_EQ(at_the_end.Accepted(), every_pose.Accepted());
+  // Not only the decisions: each one's reason and the scale in force are
+  // the same, as if updated after every pose whenever updates run.
+  for (const Replay* other : {&every_13, &at_the_end}) {
+    for (int c = 0; c < every_pose.verifier.num_candidates(); ++c) {
+      const DecisionReason a = every_pose.verifier.reason(c);
+      const DecisionReason b = other->verifier.reason(c);
+      EXPECT_EQ(ToString(a.test), ToString(b.test)) << c;
+      EXPECT_EQ(a.statistic, b.statistic) << c;
+      EXPECT_EQ(a.gate, b.gate) << c;
+      EXPECT_EQ(a.pose, b.pose) << c;
+    }
+    EXPECT_EQ(other->verifier.noise_scale(), every_pose.verifier.noise_scale());
+  }
   // VerifyWithMap is the replay after every pose.
   const Verdict verdict = VerifyWithMap(w.graph, options);
   testing::Pairs batch;
