@@ -1,5 +1,6 @@
 #include "graph_messages.h"
 
+#include <fstream>
 #include <map>
 
 #include "msg_conversion.h"
@@ -33,6 +34,8 @@ rrr_slam::GraphEdge EdgeMsg(const rrr::PoseGraph<Pose>& g,
   return out;
 }
 
+}  // namespace
+
 visualization_msgs::Marker MakeMarker(const std::string& frame,
                                       const std::string& ns, int type, float r,
                                       float g, float b, double width) {
@@ -53,7 +56,22 @@ visualization_msgs::Marker MakeMarker(const std::string& frame,
   return m;
 }
 
-}  // namespace
+visualization_msgs::Marker LoopMarker(const std::string& frame,
+                                      rrr::LoopState state) {
+  using visualization_msgs::Marker;
+  switch (state) {
+    case rrr::LoopState::kAccepted:
+      return MakeMarker(frame, "accepted", Marker::LINE_LIST, 0.0f, 0.9f, 0.0f,
+                        0.4);
+    case rrr::LoopState::kRejected:
+      return MakeMarker(frame, "rejected", Marker::LINE_LIST, 0.9f, 0.0f, 0.0f,
+                        0.04);
+    case rrr::LoopState::kPending:
+      break;
+  }
+  return MakeMarker(frame, "pending", Marker::LINE_LIST, 1.0f, 0.85f, 0.0f,
+                    0.06);
+}
 
 template <class Pose>
 rrr_slam::Decisions DecisionsMsg(
@@ -126,12 +144,9 @@ visualization_msgs::MarkerArray GraphMarkers(
       MakeMarker(frame, "odometry", Marker::LINE_STRIP, 0.2f, 0.4f, 1.0f, 0.05);
   auto poses =
       MakeMarker(frame, "poses", Marker::POINTS, 0.1f, 0.1f, 0.6f, 0.08);
-  auto accepted =
-      MakeMarker(frame, "accepted", Marker::LINE_LIST, 0.0f, 0.9f, 0.0f, 0.4);
-  auto rejected =
-      MakeMarker(frame, "rejected", Marker::LINE_LIST, 0.9f, 0.0f, 0.0f, 0.04);
-  auto pending =
-      MakeMarker(frame, "pending", Marker::LINE_LIST, 1.0f, 0.85f, 0.0f, 0.06);
+  auto accepted = LoopMarker(frame, rrr::LoopState::kAccepted);
+  auto rejected = LoopMarker(frame, rrr::LoopState::kRejected);
+  auto pending = LoopMarker(frame, rrr::LoopState::kPending);
   for (const Pose& p : map) {
     odometry.points.push_back(ToRos(p).position);
     poses.points.push_back(ToRos(p).position);
@@ -170,6 +185,21 @@ rrr_slam::AcceptedGraph AcceptedGraphMsg(
   for (const int k : accepted)
     msg.loops.push_back(EdgeMsg(graph, graph.loops()[k]));
   return msg;
+}
+
+void SaveGraphFile(const std::string& path,
+                   const std::function<void(std::ostream&)>& write,
+                   rrr_slam::SaveGraph::Response* res) {
+  std::ofstream out(path);
+  if (!out) {
+    res->success = false;
+    res->message = "cannot open " + path + " for writing";
+    return;
+  }
+  write(out);
+  out.close();
+  res->success = static_cast<bool>(out);
+  res->message = res->success ? "wrote " + path : "write failed: " + path;
 }
 
 #define RRR_INSTANTIATE_GRAPH_MESSAGES(Pose)                              \

@@ -8,14 +8,27 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cstdint>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "rrr/rrr/online_verifier.h"
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
+#include "rrr_slam/SaveGraph.h"
 
 namespace rrr_ros {
+
+// An empty marker of `type` in `frame`, namespace `ns`, id 0, coloured
+// (r, g, b), its lines `width` wide.
+visualization_msgs::Marker MakeMarker(const std::string& frame,
+                                      const std::string& ns, int type, float r,
+                                      float g, float b, double width);
+// An empty LINE_LIST for candidates in `state`: green "accepted", red
+// "rejected", yellow "pending".
+visualization_msgs::Marker LoopMarker(const std::string& frame,
+                                      rrr::LoopState state);
 
 // The state now of the candidates `carried` (ascending candidate numbers),
 // with `changes` (the updates' since the last message) marked as changed
@@ -48,6 +61,12 @@ template <class Pose>
 rrr_slam::AcceptedGraph AcceptedGraphMsg(
     const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
     const std::vector<int>& accepted, const std::string& frame);
+
+// Writes a graph file at `path` with `write` and says in `*res` whether it
+// was written (naming the path), as ~save_graph answers.
+void SaveGraphFile(const std::string& path,
+                   const std::function<void(std::ostream&)>& write,
+                   rrr_slam::SaveGraph::Response* res);
 
 }  // namespace rrr_ros
 

@@ -1,5 +1,6 @@
 #include "node_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -94,6 +95,25 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   nh.param("noise_margin", o.rrr.noise_margin, o.rrr.noise_margin);
   nh.param("map_radius", o.rrr.map_radius, o.rrr.map_radius);
   nh.param("map_junctions", o.rrr.map_junctions, o.rrr.map_junctions);
+  nh.param("robots", o.robots, o.robots);
+  for (size_t r = 0; r < o.robots.size(); ++r) {
+    const std::string& name = o.robots[r];
+    if (name.empty() || name.find_first_of("/ ") != std::string::npos ||
+        std::count(o.robots.begin(), o.robots.end(), name) > 1) {
+      Bad(nh, "robots",
+          "robot " + std::to_string(r) + " ('" + name +
+              "') must be a unique, non-empty name without '/' or spaces");
+    }
+  }
+  if (!o.robots.empty() && !o.database.empty()) {
+    Bad(nh, "database",
+        "a fleet (robots set) keeps no session database yet; leave it empty");
+  }
+  if (!o.robots.empty() && o.rrr.procedure != rrr::Procedure::kMap) {
+    Bad(nh, "procedure", "a fleet (robots set) is judged by 'map' only");
+  }
+  nh.param("restart_jump", o.restart_jump, o.restart_jump);
+  if (!(o.restart_jump >= 0)) Bad(nh, "restart_jump", "must be >= 0");
   const std::string problem = o.rrr.Validate();
   if (!problem.empty()) {
     Bad(nh, problem.substr(0, problem.find(' ')), problem);

@@ -48,6 +48,13 @@ struct NodeOptions {
   // Inputs that may wait for the worker; more are refused and counted.
   size_t max_queue_length = 100000;
   rrr::RrrOptions rrr;
+  // A fleet (FleetNode): the robots' names, each with its odometry on
+  // `<robot>/odom` and its frames `<robot>/<odom_frame>` and
+  // `<robot>/<base_frame>`. Empty: one robot (VerifierNode).
+  std::vector<std::string> robots;
+  // A fleet's robot whose odometry jumps more than this many metres between
+  // two messages restarted: it continues in a new session (0: never).
+  double restart_jump = 1.0;
 
   // Reads the private parameters of `nh`; throws std::invalid_argument naming
   // the first parameter that is missing a valid value.

@@ -4,6 +4,7 @@
 #include <memory>
 #include <thread>
 
+#include "fleet_node.h"
 #include "node_options.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -37,12 +38,26 @@ int main(int argc, char** argv) {
     node.Run();
     stop.join();
   };
-  if (options.dimension == 2) {
-    rrr_ros::VerifierNode<rrr::Pose2> node(nh, private_nh, options);
-    run(node);
-  } else {
-    rrr_ros::VerifierNode<rrr::Pose3> node(nh, private_nh, options);
-    run(node);
+  // One robot (VerifierNode) or a fleet (FleetNode, `robots` set).
+  const auto serve = [&](auto pose) {
+    using Pose = decltype(pose);
+    if (options.robots.empty()) {
+      rrr_ros::VerifierNode<Pose> node(nh, private_nh, options);
+      run(node);
+    } else {
+      rrr_ros::FleetNode<Pose> node(nh, private_nh, options);
+      run(node);
+    }
+  };
+  try {
+    if (options.dimension == 2) {
+      serve(rrr::Pose2());
+    } else {
+      serve(rrr::Pose3());
+    }
+  } catch (const std::invalid_argument& e) {
+    ROS_FATAL("rrr_node: %s", e.what());
+    return 1;
   }
   return 0;
 }

@@ -17,9 +17,15 @@ struct SimulatedRobotOptions {
   rrr::WorldOptions world;  // poses, false_loops, group, seed, ...
   double rate = 20.0;       // odometry messages per second
   std::string odom_frame = "odom", base_frame = "base_link";
+  // One robot of a fleet: the world's path cut into as many consecutive
+  // parts as `robots` names, this robot (`robot`, one of them) driving its
+  // part with its odometry from zero. Empty: the whole world, alone.
+  std::vector<std::string> robots;
+  std::string robot;
 
   // Reads the private parameters (poses, false_loops, group, seed, rate,
-  // odom_frame, base_frame); throws std::invalid_argument naming a bad one.
+  // odom_frame, base_frame, robots, robot); throws std::invalid_argument
+  // naming a bad one.
   static SimulatedRobotOptions Read(const ros::NodeHandle& nh);
 };
 
@@ -27,8 +33,11 @@ struct SimulatedRobotOptions {
 // would: nav_msgs/Odometry on `odom` at `rate` (the pose in the odometry
 // frame with its growing covariance), and each loop candidate, true or
 // false, on `loop_closures` right after its later pose, naming its poses by
-// time stamp. Publishes std_msgs/Bool true on the latched `~done` after the
-// last pose.
+// time stamp. As one robot of a fleet, its part of the world, and each
+// candidate whose later end (counted in each robot's part; a tie goes to the
+// later robot) is its own on `fleet_loop_closures`, naming robot and
+// keyframe id (every odometry message a keyframe) at both ends. Publishes
+// std_msgs/Bool true on the latched `~done` after the last pose.
 class SimulatedRobot {
  public:
   SimulatedRobot(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
@@ -36,6 +45,8 @@ class SimulatedRobot {
 
  private:
   void OnTimer(const ros::TimerEvent& event);
+  // The robot of a fleet whose part holds world pose `p`.
+  int RobotOf(int p) const;
 
   SimulatedRobotOptions options_;
   rrr::SimulatedWorld world_;
@@ -44,6 +55,8 @@ class SimulatedRobot {
   std::vector<std::vector<int>> loops_at_;
   std::vector<ros::Time> stamps_;
   rrr::OdometryCovariance covariance_ = rrr::OdometryCovariance::Zero();
+  int first_ = 0, last_ = 0;         // its part of the world's poses
+  std::vector<int> first_of_robot_;  // of each robot's part (a fleet)
   int next_ = 0;
   ros::Publisher odom_pub_, loop_pub_, done_pub_;
   ros::Timer timer_;

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
-#include <future>
 
 #include "graph_messages.h"
 #include "msg_conversion.h"
@@ -58,7 +57,7 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
     : options_(options),
       nh_(nh),
       private_nh_(private_nh),
-      queue_(options.max_queue_length),
+      worker_(options.max_queue_length),
       verifier_(MakeVerifier<Pose>(options.rrr)),
       odometry_noise_(PerUnitInformation<Pose>(options),
                       options.odometry_min_motion),
@@ -73,7 +72,7 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
   // its topic is out of date (after ~finish no update would send it).
   const auto joined = [this](Output output) -> ros::SubscriberStatusCallback {
     return [this, output](const ros::SingleSubscriberPublisher&) {
-      Enqueue(Request([this, output] { PublishDue(output); }));
+      worker_.Enqueue([this, output] { PublishDue(output); });
     };
   };
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, joined(kPath),
@@ -111,12 +110,12 @@ template <class Pose>
 VerifierNode<Pose>::~VerifierNode() {
   odom_sub_.shutdown();
   loop_sub_.shutdown();
-  queue_.Stop();
+  worker_.Stop();
 }
 
 template <class Pose>
 void VerifierNode<Pose>::Stop() {
-  queue_.Stop();
+  worker_.Stop();
 }
 
 template <class Pose>
@@ -183,77 +182,42 @@ void VerifierNode<Pose>::Resume() {
 template <class Pose>
 void VerifierNode<Pose>::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
   ++odometry_received_;
-  Enqueue(msg);
+  worker_.Enqueue(msg, kOdometry, msg->header.seq);
 }
 
 template <class Pose>
 void VerifierNode<Pose>::OnLoopClosure(
     const rrr_slam::LoopClosure::ConstPtr& msg) {
   ++loops_received_;
-  Enqueue(msg);
-}
-
-template <class Pose>
-void VerifierNode<Pose>::Enqueue(Input input) {
-  if (std::holds_alternative<Request>(input)) {
-    queue_.Push(std::move(input), false);
-    return;
-  }
-  const bool odometry =
-      std::holds_alternative<nav_msgs::Odometry::ConstPtr>(input);
-  const uint32_t seq =
-      odometry ? std::get<nav_msgs::Odometry::ConstPtr>(input)->header.seq
-               : std::get<rrr_slam::LoopClosure::ConstPtr>(input)->header.seq;
-  if (!queue_.Push(std::move(input), true)) {
-    ROS_WARN_THROTTLE(5.0,
-                      "rrr_node: refused %s message %u: %zu inputs are "
-                      "queued already (max_queue_length; %lu refused so far)",
-                      odometry ? kOdometry : kLoopClosure, seq, queue_.size(),
-                      static_cast<unsigned long>(queue_.refused()));
-  }
-}
-
-template <class Pose>
-void VerifierNode<Pose>::RunOnWorker(const Request& request) {
-  std::promise<void> done;
-  Enqueue(Request([&] {
-    request();
-    done.set_value();
-  }));
-  done.get_future().wait();
+  worker_.Enqueue(msg, kLoopClosure, msg->header.seq);
 }
 
 template <class Pose>
 bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
                                      rrr_slam::SaveGraph::Response& res) {
-  RunOnWorker([&] {
+  worker_.RunOnWorker([&] {
     const auto& g = verifier_->graph();
     if (g.num_poses() == 0) {
       res.success = false;
       res.message = "no keyframes yet";
       return;
     }
-    std::ofstream out(req.path);
-    if (!out) {
-      res.success = false;
-      res.message = "cannot open " + req.path + " for writing";
-      return;
-    }
-    const std::vector<int> loops =
-        req.with_candidates ? rrr::AllLoops(g) : verifier_->AcceptedLoops();
-    rrr::WriteG2o(g, FreshMap(), loops, out);
-    if (req.with_candidates) {
-      for (int c = 0; c < verifier_->num_candidates(); ++c) {
-        const auto [a, b] = verifier_->ends_of(c);
-        out << "# DECISION " << a << ' ' << b << ' '
-            << rrr::ToString(verifier_->state(c))
-            << (verifier_->loop_of(c) < 0 ? " waiting" : "") << '\n';
-      }
-    }
-    out.close();
-    res.success = static_cast<bool>(out);
-    res.message =
-        res.success ? "wrote " + req.path : "write failed: " + req.path;
+    SaveGraphFile(
+        req.path,
+        [&](std::ostream& out) {
+          const std::vector<int> loops = req.with_candidates
+                                             ? rrr::AllLoops(g)
+                                             : verifier_->AcceptedLoops();
+          rrr::WriteG2o(g, FreshMap(), loops, out);
+          if (!req.with_candidates) return;
+          for (int c = 0; c < verifier_->num_candidates(); ++c) {
+            const auto [a, b] = verifier_->ends_of(c);
+            out << "# DECISION " << a << ' ' << b << ' '
+                << rrr::ToString(verifier_->state(c))
+                << (verifier_->loop_of(c) < 0 ? " waiting" : "") << '\n';
+          }
+        },
+        &res);
   });
   return true;
 }
@@ -261,34 +225,17 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
 template <class Pose>
 bool VerifierNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
                                      rrr_slam::GetStatus::Response& res) {
-  UpdateTimings timings;
-  {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    res = status_;
-    timings = timings_;
-  }
-  const UpdateTimings::Summary t = timings.Summarize();
-  res.candidate_latency_p50 = t.latency_p50;
-  res.candidate_latency_p99 = t.latency_p99;
-  res.candidate_latency_max = t.latency_max;
-  res.update_seconds_p50 = t.update_p50;
-  res.update_seconds_p99 = t.update_p99;
-  res.max_update_seconds = t.update_max;
-  res.recent_max_update_seconds = t.recent_update_max;
-  res.last_update_seconds = t.last_update;
-  res.queue_length = static_cast<uint32_t>(queue_.size());
+  res = StatusSnapshot(state_mutex_, status_, timings_);
+  worker_.SetQueueStatus(&res);
   res.odometry_received = odometry_received_;
   res.loop_closures_received = loops_received_;
-  res.max_queue_length = static_cast<uint32_t>(queue_.longest());
-  res.inputs_dropped = 0;
-  res.inputs_refused = queue_.refused();
   return true;
 }
 
 template <class Pose>
 bool VerifierNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
                                   rrr_slam::Finish::Response& res) {
-  RunOnWorker([&] {
+  worker_.RunOnWorker([&] {
     UpdateAndPublish(true);
     std::lock_guard<std::mutex> lock(state_mutex_);
     res.accepted = status_.accepted;
@@ -302,7 +249,7 @@ bool VerifierNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
 template <class Pose>
 bool VerifierNode<Pose>::OnGetDecisions(rrr_slam::GetDecisions::Request&,
                                         rrr_slam::GetDecisions::Response& res) {
-  RunOnWorker([&] {
+  worker_.RunOnWorker([&] {
     std::vector<int> every(verifier_->num_candidates());
     for (int c = 0; c < verifier_->num_candidates(); ++c) every[c] = c;
     res.decisions =
@@ -315,7 +262,7 @@ template <class Pose>
 bool VerifierNode<Pose>::OnGetAcceptedGraph(
     rrr_slam::GetAcceptedGraph::Request&,
     rrr_slam::GetAcceptedGraph::Response& res) {
-  RunOnWorker([&] {
+  worker_.RunOnWorker([&] {
     res.graph = AcceptedGraphMsg(
         *verifier_, FreshMap(), verifier_->AcceptedLoops(), options_.map_frame);
   });
@@ -344,33 +291,16 @@ void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
 
 template <class Pose>
 void VerifierNode<Pose>::Run() {
-  while (true) {
-    auto batch = queue_.TakeAll();
-    if (batch.empty()) return;  // stopped
-    bool pending_update = false;
-    for (auto& [input, arrival] : batch) {
-      if (auto* request = std::get_if<Request>(&input)) {
-        if (pending_update) UpdateAndPublish(false);
-        pending_update = false;
-        (*request)();
-        continue;
-      }
-      std::visit(
-          [this](const auto& msg) {
-            if constexpr (!std::is_same_v<std::decay_t<decltype(msg)>,
-                                          Request>) {
-              Process(msg);
-            }
-          },
-          input);
-      pending_update = true;
-      if (std::holds_alternative<rrr_slam::LoopClosure::ConstPtr>(input)) {
-        unpublished_arrivals_.push_back(arrival);
-      }
-      ++taken_since_update_;
-    }
-    if (pending_update) UpdateAndPublish(false);
-  }
+  worker_.Run(
+      [this](const auto& msg, typename Worker::Clock::time_point arrival) {
+        Process(msg);
+        if constexpr (std::is_same_v<std::decay_t<decltype(msg)>,
+                                     rrr_slam::LoopClosure::ConstPtr>) {
+          unpublished_arrivals_.push_back(arrival);
+        }
+        ++taken_since_update_;
+      },
+      [this] { UpdateAndPublish(false); });
 }
 
 template <class Pose>
@@ -431,7 +361,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   status_.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
   timings_.AddUpdate(seconds);
-  const auto published = InputQueue<Input>::Clock::now();
+  const auto published = Worker::Clock::now();
   for (const auto& arrival : unpublished_arrivals_) {
     timings_.AddLatency(
         std::chrono::duration<double>(published - arrival).count());

@@ -13,8 +13,8 @@
 #include <variant>
 #include <vector>
 
-#include "input_queue.h"
 #include "node_options.h"
+#include "node_worker.h"
 #include "rrr/graph/keyframe_track.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/graph/stamped_candidates.h"
@@ -55,18 +55,12 @@ class VerifierNode {
 
  private:
   using Information = typename rrr::Constraint<Pose>::Information;
-  using Request = std::function<void()>;  // runs on the worker
-  using Input = std::variant<nav_msgs::Odometry::ConstPtr,
-                             rrr_slam::LoopClosure::ConstPtr, Request>;
+  using Worker =
+      NodeWorker<nav_msgs::Odometry::ConstPtr, rrr_slam::LoopClosure::ConstPtr>;
 
   // ROS threads: record and return.
   void OnOdometry(const nav_msgs::Odometry::ConstPtr& msg);
   void OnLoopClosure(const rrr_slam::LoopClosure::ConstPtr& msg);
-  // Queues `input` for the worker; a message is refused, counted and warned
-  // about when max_queue_length inputs wait already.
-  void Enqueue(Input input);
-  // Queues `request` for the worker and waits until it has run.
-  void RunOnWorker(const Request& request);
   bool OnSaveGraph(rrr_slam::SaveGraph::Request& req,
                    rrr_slam::SaveGraph::Response& res);
   bool OnGetStatus(rrr_slam::GetStatus::Request& req,
@@ -128,7 +122,7 @@ class VerifierNode {
   ros::Timer tf_timer_, diagnostics_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
-  InputQueue<Input> queue_;  // between the callbacks and the worker
+  Worker worker_;  // between the callbacks and the worker
   std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
 
   // Worker state (touched only by the worker).
@@ -154,8 +148,7 @@ class VerifierNode {
   // Whether ~path, ~graph and ~accepted_graph are behind the state.
   bool path_stale_ = false, markers_stale_ = false, graph_stale_ = false;
   // Arrival times of the candidates taken in since the last update.
-  std::vector<typename InputQueue<Input>::Clock::time_point>
-      unpublished_arrivals_;
+  std::vector<typename Worker::Clock::time_point> unpublished_arrivals_;
   ros::WallTime last_path_, last_markers_, last_graph_;  // last published
 
   // Shared with the ROS threads under `state_mutex_`.

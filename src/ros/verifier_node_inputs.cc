@@ -25,14 +25,7 @@ std::string WrongFrame(const std::string& frame, const std::string& name,
 template <class Pose>
 void VerifierNode<Pose>::Invalid(const char* kind, uint32_t seq,
                                  const std::string& why) {
-  uint64_t count;
-  {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    count = ++status_.invalid_messages;
-  }
-  ROS_WARN_THROTTLE(
-      5.0, "rrr_node: ignored %s message %u: %s (%lu invalid messages so far)",
-      kind, seq, why.c_str(), static_cast<unsigned long>(count));
+  CountInvalid(state_mutex_, &status_, kind, seq, why);
 }
 
 template <class Pose>

@@ -28,12 +28,14 @@ struct FleetOptions {
   // its odometry restarted (at zero, typically) and it starts a new
   // session. 0 turns the test off.
   double restart_jump = 1.0;
-  // Whether odometry edges take their information from the readings'
-  // covariances (OdometryNoiseModel); with `odometry_information` the
-  // information of one metre or radian of motion.
+  // An odometry edge's information (OdometryNoiseModel): from the change
+  // of the readings' covariances if `use_odometry_covariance`, else from
+  // `odometry_information` (the diagonal, one value per degree of freedom
+  // of the pose: of one metre or radian of motion; empty: 100 each) times
+  // the motion, at least `odometry_min_motion`.
   bool use_odometry_covariance = true;
-  Eigen::Matrix<double, 6, 6> odometry_information =
-      Eigen::Matrix<double, 6, 6>::Identity() * 100.0;
+  std::vector<double> odometry_information;
+  double odometry_min_motion = 0.05;
 };
 
 // The robots named at construction, each with its sessions: a session is one
@@ -56,7 +58,8 @@ class Fleet {
   };
 
   // Throws std::invalid_argument for no robot, a name repeated or empty, or
-  // options that do not validate.
+  // options that do not validate (a negative restart_jump, an
+  // odometry_information of another size or not positive).
   Fleet(std::vector<std::string> robots, const FleetOptions& options);
 
   // Index of robot `name`, or -1.
@@ -103,6 +106,11 @@ class Fleet {
   // `map`, oldest first, as of the last Update() (keyframes added since
   // follow their odometry).
   std::vector<Pose> Path(int robot, int map) const;
+  // The stamps of Path(robot, map)'s keyframes.
+  std::vector<std::int64_t> PathStamps(int robot, int map) const;
+  // The corrected pose of keyframe `pose` in its map's frame, as Path();
+  // nothing if it does not exist.
+  std::optional<Pose> Corrected(const ChainPose& pose) const;
 
  private:
   struct Session {

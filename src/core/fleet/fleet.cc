@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "rrr/geometry/pose2.h"
@@ -10,21 +11,25 @@
 namespace rrr {
 namespace {
 
-// The information of one unit of motion for `Pose` from the 6-DoF one:
-// x, y, yaw for a 2D pose.
+// The information of one unit of motion: `diagonal` (100 each if empty).
 template <class Pose>
 typename Constraint<Pose>::Information PerUnit(
-    const Eigen::Matrix<double, 6, 6>& information) {
-  if constexpr (Pose::kDof == 6) {
-    return information;
-  } else {
-    const int kept[3] = {0, 1, 5};
-    typename Constraint<Pose>::Information out;
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) out(r, c) = information(kept[r], kept[c]);
-    }
-    return out;
+    const std::vector<double>& diagonal) {
+  using Information = typename Constraint<Pose>::Information;
+  if (diagonal.empty()) return Information::Identity() * 100.0;
+  if (diagonal.size() != static_cast<size_t>(Pose::kDof)) {
+    throw std::invalid_argument("odometry_information needs " +
+                                std::to_string(Pose::kDof) + " values, got " +
+                                std::to_string(diagonal.size()));
   }
+  Information information = Information::Zero();
+  for (int k = 0; k < Pose::kDof; ++k) {
+    if (!(diagonal[k] > 0.0)) {
+      throw std::invalid_argument("odometry_information must be positive");
+    }
+    information(k, k) = diagonal[k];
+  }
+  return information;
 }
 
 }  // namespace
@@ -33,7 +38,8 @@ template <class Pose>
 Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
     : robots_(std::move(robots)),
       options_(options),
-      noise_(PerUnit<Pose>(options.odometry_information), 0.01),
+      noise_(PerUnit<Pose>(options.odometry_information),
+             options.odometry_min_motion),
       verifier_(options.rrr),
       sessions_(robots_.size()),
       next_id_(robots_.size(), 0),
@@ -182,6 +188,27 @@ std::vector<Pose> Fleet<Pose>::Path(int robot, int map) const {
     path.insert(path.end(), poses.begin(), poses.end());
   }
   return path;
+}
+
+template <class Pose>
+std::vector<std::int64_t> Fleet<Pose>::PathStamps(int robot, int map) const {
+  std::vector<std::int64_t> stamps;
+  for (const int chain : sessions_.at(robot)) {
+    if (verifier_.map_of_chain(chain) != map) continue;
+    const auto& own = sessions_by_chain_[chain].track.stamps().stamps();
+    stamps.insert(stamps.end(), own.begin(), own.end());
+  }
+  return stamps;
+}
+
+template <class Pose>
+std::optional<Pose> Fleet<Pose>::Corrected(const ChainPose& pose) const {
+  const Session& session = sessions_by_chain_.at(pose.chain);
+  const std::int64_t k = pose.id - session.first_id;
+  if (k < 0 || k >= static_cast<std::int64_t>(session.map.size())) {
+    return std::nullopt;
+  }
+  return session.map[k];
 }
 
 template class Fleet<Pose2>;

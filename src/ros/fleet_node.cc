@@ -1,0 +1,398 @@
+#include "fleet_node.h"
+
+#include <nav_msgs/Path.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include "graph_messages.h"
+#include "msg_conversion.h"
+#include "rrr/io/g2o.h"
+#include "rrr_slam/Keyframe.h"
+#include "status_messages.h"
+
+namespace rrr_ros {
+namespace {
+
+constexpr int kQueueSize = 10000;  // ROS subscriber queues
+
+rrr::FleetOptions FleetOptionsOf(const NodeOptions& options) {
+  rrr::FleetOptions fleet;
+  fleet.rrr = options.rrr;
+  fleet.keyframe_translation = options.keyframe_translation;
+  fleet.keyframe_rotation = options.keyframe_rotation;
+  fleet.restart_jump = options.restart_jump;
+  fleet.use_odometry_covariance = options.use_odometry_covariance;
+  fleet.odometry_information = options.odometry_information;
+  fleet.odometry_min_motion = options.odometry_min_motion;
+  return fleet;
+}
+
+// A colour per robot, apart around the hue circle.
+std_msgs::ColorRGBA RobotColour(int robot) {
+  const double hue = std::fmod(0.13 + 0.381966 * robot, 1.0) * 6.0;
+  const double x = 1.0 - std::abs(std::fmod(hue, 2.0) - 1.0);
+  const int sector = static_cast<int>(hue);
+  const double rgb[6][3] = {{1, x, 0}, {x, 1, 0}, {0, 1, x},
+                            {0, x, 1}, {x, 0, 1}, {1, 0, x}};
+  std_msgs::ColorRGBA colour;
+  colour.r = static_cast<float>(0.2 + 0.8 * rgb[sector][0]);
+  colour.g = static_cast<float>(0.2 + 0.8 * rgb[sector][1]);
+  colour.b = static_cast<float>(0.2 + 0.8 * rgb[sector][2]);
+  colour.a = 1.0f;
+  return colour;
+}
+
+}  // namespace
+
+template <class Pose>
+FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
+                           const NodeOptions& options)
+    : options_(options),
+      nh_(nh),
+      private_nh_(private_nh),
+      worker_(options.max_queue_length),
+      fleet_(options.robots, FleetOptionsOf(options)) {
+  status_.procedure = rrr::ToString(options_.rrr.procedure);
+  const int robots = static_cast<int>(options_.robots.size());
+  map_to_odom_.resize(robots);
+  for (int r = 0; r < robots; ++r) {
+    const std::string& name = options_.robots[r];
+    keyframe_pubs_.push_back(
+        private_nh_.advertise<rrr_slam::Keyframe>(name + "/keyframes", 1000));
+    path_pubs_.push_back(
+        private_nh_.advertise<nav_msgs::Path>(name + "/path", 1, true));
+  }
+  marker_pub_ =
+      private_nh_.advertise<visualization_msgs::MarkerArray>("graph", 1, true);
+  finish_srv_ =
+      private_nh_.advertiseService("finish", &FleetNode::OnFinish, this);
+  save_srv_ =
+      private_nh_.advertiseService("save_graph", &FleetNode::OnSaveGraph, this);
+  status_srv_ =
+      private_nh_.advertiseService("get_status", &FleetNode::OnGetStatus, this);
+  tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period),
+                              &FleetNode::OnTfTimer, this);
+  for (int r = 0; r < robots; ++r) {
+    odom_subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(
+        options_.robots[r] + "/odom", kQueueSize,
+        [this, r](const nav_msgs::Odometry::ConstPtr& msg) {
+          ++odometry_received_;
+          worker_.Enqueue(RobotOdometry{r, msg}, "odometry", msg->header.seq);
+        },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+  }
+  fleet_loop_sub_ = nh_.subscribe<rrr_slam::FleetLoopClosure>(
+      "fleet_loop_closures", kQueueSize,
+      [this](const rrr_slam::FleetLoopClosure::ConstPtr& msg) {
+        ++loops_received_;
+        worker_.Enqueue(msg, "fleet loop closure", msg->loop.header.seq);
+      },
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  loop_sub_ = nh_.subscribe<rrr_slam::LoopClosure>(
+      "loop_closures", kQueueSize,
+      [this](const rrr_slam::LoopClosure::ConstPtr& msg) {
+        ++loops_received_;
+        worker_.Enqueue(msg, "loop closure", msg->header.seq);
+      },
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+}
+
+template <class Pose>
+FleetNode<Pose>::~FleetNode() {
+  for (ros::Subscriber& sub : odom_subs_) sub.shutdown();
+  fleet_loop_sub_.shutdown();
+  loop_sub_.shutdown();
+  worker_.Stop();
+}
+
+template <class Pose>
+void FleetNode<Pose>::Stop() {
+  worker_.Stop();
+}
+
+template <class Pose>
+std::string FleetNode<Pose>::RobotFrame(int robot,
+                                        const std::string& frame) const {
+  return options_.robots[robot] + "/" + frame;
+}
+
+template <class Pose>
+std::string FleetNode<Pose>::MapFrame(int map) const {
+  if (map == fleet_.verifier().map_of_chain(0)) return options_.map_frame;
+  const int robot = fleet_.robot_of_chain(map);
+  const std::vector<int>& sessions = fleet_.sessions(robot);
+  const auto k =
+      std::find(sessions.begin(), sessions.end(), map) - sessions.begin();
+  return RobotFrame(robot, k == 0 ? "map" : "map_" + std::to_string(k));
+}
+
+// ---- ROS threads ----------------------------------------------------------
+
+template <class Pose>
+bool FleetNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
+                               rrr_slam::Finish::Response& res) {
+  worker_.RunOnWorker([&] {
+    UpdateAndPublish(true);
+    const auto& v = fleet_.verifier();
+    res.accepted = v.num_in_state(rrr::LoopState::kAccepted);
+    res.rejected = v.num_in_state(rrr::LoopState::kRejected);
+    res.pending = v.num_in_state(rrr::LoopState::kPending);
+    res.waiting = 0;
+  });
+  return true;
+}
+
+template <class Pose>
+bool FleetNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
+                                  rrr_slam::SaveGraph::Response& res) {
+  worker_.RunOnWorker([&] {
+    const auto& v = fleet_.verifier();
+    std::vector<int> candidate_of_loop;
+    const rrr::PoseGraph<Pose> graph = v.Graph(&candidate_of_loop);
+    if (graph.num_poses() == 0) {
+      res.success = false;
+      res.message = "no keyframes yet";
+      return;
+    }
+    SaveGraphFile(
+        req.path,
+        [&](std::ostream& out) {
+          std::vector<int> loops;
+          for (size_t k = 0; k < candidate_of_loop.size(); ++k) {
+            if (req.with_candidates ||
+                v.state(candidate_of_loop[k]) == rrr::LoopState::kAccepted) {
+              loops.push_back(static_cast<int>(k));
+            }
+          }
+          rrr::WriteG2o(graph, graph.estimates(), loops, out);
+          if (!req.with_candidates) return;
+          const auto name = [&](const rrr::ChainPose& p) {
+            return options_.robots[fleet_.robot_of_chain(p.chain)] + ":" +
+                   std::to_string(p.id);
+          };
+          for (const int k : loops) {
+            const int c = candidate_of_loop[k];
+            out << "# DECISION " << name(v.from(c)) << ' ' << name(v.to(c))
+                << ' ' << rrr::ToString(v.state(c)) << '\n';
+          }
+        },
+        &res);
+  });
+  return true;
+}
+
+template <class Pose>
+bool FleetNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
+                                  rrr_slam::GetStatus::Response& res) {
+  res = StatusSnapshot(state_mutex_, status_, timings_);
+  worker_.SetQueueStatus(&res);
+  res.odometry_received = odometry_received_;
+  res.loop_closures_received = loops_received_;
+  return true;
+}
+
+template <class Pose>
+void FleetNode<Pose>::OnTfTimer(const ros::TimerEvent&) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  const ros::Time stamp = ros::Time::now() + ros::Duration(options_.tf_period);
+  for (geometry_msgs::TransformStamped t : map_to_odom_) {
+    if (t.child_frame_id.empty()) continue;  // no keyframe yet
+    t.header.stamp = stamp;
+    tf_broadcaster_.sendTransform(t);
+  }
+}
+
+// ---- Worker thread ---------------------------------------------------------
+
+template <class Pose>
+void FleetNode<Pose>::Run() {
+  worker_.Run(
+      [this](const auto& message, typename Worker::Clock::time_point) {
+        Process(message);
+        ++taken_since_update_;
+      },
+      [this] { UpdateAndPublish(false); });
+}
+
+template <class Pose>
+void FleetNode<Pose>::Invalid(const std::string& what, uint32_t seq,
+                              const std::string& why) {
+  CountInvalid(state_mutex_, &status_, what, seq, why);
+}
+
+template <class Pose>
+void FleetNode<Pose>::Process(const RobotOdometry& odometry) {
+  const nav_msgs::Odometry& msg = *odometry.msg;
+  const int r = odometry.robot;
+  const std::string what = options_.robots[r] + " odometry";
+  const std::string& frame = msg.header.frame_id;
+  if (!frame.empty() && frame != RobotFrame(r, options_.odom_frame) &&
+      frame != options_.odom_frame) {
+    return Invalid(what, msg.header.seq,
+                   "frame '" + frame + "' is not the robot's odometry frame '" +
+                       RobotFrame(r, options_.odom_frame) + "'");
+  }
+  Pose pose;
+  std::string why;
+  if (!FromRos(msg.pose.pose, &pose, &why)) {
+    return Invalid(what, msg.header.seq, why);
+  }
+  const rrr::KeyframeRecord<Pose> reading{
+      static_cast<std::int64_t>(msg.header.stamp.toNSec()), pose,
+      FromRos(msg.pose.covariance)};
+  const auto taken = fleet_.AddReading(r, reading);
+  if (!taken.problem.empty()) {
+    return Invalid(what, msg.header.seq, taken.problem);
+  }
+  if (taken.new_session && fleet_.sessions(r).size() > 1) {
+    ROS_INFO("rrr_node: robot %s restarted: session %zu from keyframe %lld",
+             options_.robots[r].c_str(), fleet_.sessions(r).size() - 1,
+             static_cast<long long>(taken.id));
+  }
+  if (!taken.keyframe) return;
+  changed_ = true;
+  rrr_slam::Keyframe keyframe;
+  keyframe.header.stamp = msg.header.stamp;
+  keyframe.header.frame_id = RobotFrame(r, options_.odom_frame);
+  keyframe.id = taken.id;
+  keyframe.pose = msg.pose.pose;
+  keyframe_pubs_[r].publish(keyframe);
+}
+
+template <class Pose>
+void FleetNode<Pose>::Process(const rrr_slam::FleetLoopClosure::ConstPtr& msg) {
+  const uint32_t seq = msg->loop.header.seq;
+  const int from = fleet_.RobotIndex(msg->from_robot);
+  const int to = fleet_.RobotIndex(msg->to_robot);
+  for (const auto& [index, name] :
+       {std::pair(from, &msg->from_robot), {to, &msg->to_robot}}) {
+    if (index < 0) {
+      return Invalid("fleet loop closure", seq,
+                     "robot '" + *name + "' is not among the robots");
+    }
+  }
+  AddCandidate(seq, from, to, msg->loop);
+}
+
+template <class Pose>
+void FleetNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
+  AddCandidate(msg->header.seq, 0, 0, *msg);
+}
+
+template <class Pose>
+void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
+                                   const rrr_slam::LoopClosure& loop) {
+  const std::string what = "loop closure";
+  if (loop.reference != rrr_slam::LoopClosure::BY_ID) {
+    return Invalid(what, seq,
+                   "a fleet takes candidates by keyframe id (BY_ID) only");
+  }
+  Pose z;
+  Information information;
+  std::string why;
+  if (!FromRos(loop.relative_pose.pose, &z, &why) ||
+      !InformationFromCovariance<Pose>(loop.relative_pose.covariance,
+                                       &information, &why)) {
+    return Invalid(what, seq, why);
+  }
+  try {
+    fleet_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
+    changed_ = true;
+  } catch (const rrr::DegenerateCandidate& e) {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    CountCandidateDefect(e.defect(), &status_);
+    ROS_WARN_THROTTLE(5.0, "rrr_node: skipped loop closure message %u: %s", seq,
+                      e.what());
+  } catch (const std::out_of_range& e) {
+    Invalid(what, seq, "a robot without keyframes yet");
+  }
+}
+
+template <class Pose>
+void FleetNode<Pose>::UpdateAndPublish(bool finish) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<rrr::DecisionChange> changes =
+      finish ? fleet_.Finish() : fleet_.Update();
+  changed_ = changed_ || !changes.empty() || finish;
+  const ros::WallTime now = ros::WallTime::now();
+  if (changed_ &&
+      (finish || (now - last_published_).toSec() >= options_.display_period)) {
+    changed_ = false;
+    last_published_ = now;
+    using visualization_msgs::Marker;
+    visualization_msgs::MarkerArray markers;
+    for (int r = 0; r < static_cast<int>(options_.robots.size()); ++r) {
+      const int map = fleet_.MapOfRobot(r);
+      if (map < 0) continue;
+      const std::string frame = MapFrame(map);
+      path_pubs_[r].publish(
+          PathMsg(fleet_.Path(r, map), fleet_.PathStamps(r, map), frame));
+      Marker path = MakeMarker(frame, options_.robots[r], Marker::LINE_STRIP,
+                               0.0f, 0.0f, 0.0f, 0.05);
+      path.color = RobotColour(r);
+      for (const Pose& p : fleet_.Path(r, map)) {
+        path.points.push_back(ToRos(p).position);
+      }
+      markers.markers.push_back(path);
+    }
+    // Loops whose two ends are in one map, by state.
+    const auto& v = fleet_.verifier();
+    std::map<std::pair<int, rrr::LoopState>, Marker> loops;
+    for (int c = 0; c < v.num_candidates(); ++c) {
+      const rrr::ChainPose a = v.from(c), b = v.to(c);
+      const int map = v.map_of_chain(a.chain);
+      const auto pa = fleet_.Corrected(a), pb = fleet_.Corrected(b);
+      if (map != v.map_of_chain(b.chain) || !pa || !pb) continue;
+      auto [it, added] = loops.try_emplace({map, v.state(c)});
+      if (added) {
+        it->second = LoopMarker(MapFrame(map), v.state(c));
+        it->second.id = map;
+      }
+      it->second.points.push_back(ToRos(*pa).position);
+      it->second.points.push_back(ToRos(*pb).position);
+    }
+    for (auto& [key, marker] : loops) markers.markers.push_back(marker);
+    marker_pub_.publish(markers);
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  for (int r = 0; r < static_cast<int>(options_.robots.size()); ++r) {
+    const std::optional<Pose> correction = fleet_.MapToOdom(r);
+    if (!correction) continue;
+    geometry_msgs::TransformStamped& t = map_to_odom_[r];
+    t.header.frame_id = MapFrame(fleet_.MapOfRobot(r));
+    t.child_frame_id = RobotFrame(r, options_.odom_frame);
+    t.transform = ToRosTransform(*correction);
+    t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
+    tf_broadcaster_.sendTransform(t);
+  }
+  const auto& v = fleet_.verifier();
+  status_.candidates = static_cast<uint32_t>(v.num_candidates());
+  status_.accepted =
+      static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kAccepted));
+  status_.rejected =
+      static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kRejected));
+  status_.pending =
+      static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kPending));
+  status_.keyframes = 0;
+  for (int c = 0; c < v.num_chains(); ++c) {
+    status_.keyframes += static_cast<uint32_t>(v.chain(c).graph().num_poses());
+  }
+  ++status_.updates;
+  status_.inputs_processed += taken_since_update_;
+  taken_since_update_ = 0;
+  timings_.AddUpdate(seconds);
+}
+
+template class FleetNode<rrr::Pose2>;
+template class FleetNode<rrr::Pose3>;
+
+}  // namespace rrr_ros

@@ -1,0 +1,151 @@
+// Four simulated robots and rrr_node serving them as a fleet
+// (test/fleet.test): the test builds the same world from the robots'
+// parameters to know which candidates are false.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <std_msgs/Bool.h>
+#include <tf2_ros/transform_listener.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "ros_test_helpers.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/chains/verify_chains.h"
+#include "rrr/sim/simulated_world.h"
+#include "rrr_slam/SaveGraph.h"
+
+namespace {
+
+// A candidate's ends as the robots name them: "robot:id robot:id".
+using Ends = std::string;
+
+TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
+  std::vector<std::string> robots;
+  ASSERT_TRUE(ros::param::get("/rrr_node/robots", robots));
+  rrr::WorldOptions world;
+  int seed = 0;
+  const std::string sim = "/" + robots.front() + "/simulated_robot/";
+  ASSERT_TRUE(ros::param::get(sim + "poses", world.poses));
+  ASSERT_TRUE(ros::param::get(sim + "false_loops", world.false_loops));
+  ASSERT_TRUE(ros::param::get(sim + "group", world.group));
+  ASSERT_TRUE(ros::param::get(sim + "seed", seed));
+  world.seed = static_cast<std::uint64_t>(seed);
+  const rrr::SimulatedWorld w = rrr::SimulateWorld(world);
+  const int n = static_cast<int>(robots.size());
+  // World pose p as robot:id (each robot drives a consecutive part).
+  const auto name = [&](int p) {
+    int r = n - 1;
+    while (p < w.graph.num_poses() * r / n) --r;
+    return robots[r] + ":" + std::to_string(p - w.graph.num_poses() * r / n);
+  };
+  std::set<Ends> false_ends;
+  for (const int k : w.false_loops) {
+    const auto& l = w.graph.loops()[k];
+    false_ends.insert(name(l.from) + " " + name(l.to));
+  }
+  const uint64_t inputs = w.graph.num_poses() + w.graph.loops().size();
+
+  ros::NodeHandle nh;
+  std::map<std::string, bool> done;
+  std::vector<ros::Subscriber> subs;
+  for (const std::string& robot : robots) {
+    subs.push_back(nh.subscribe<std_msgs::Bool>(
+        "/" + robot + "/simulated_robot/done", 1,
+        [&done, robot](const std_msgs::Bool::ConstPtr& m) {
+          done[robot] = m->data;
+        }));
+  }
+  tf2_ros::Buffer tf;
+  tf2_ros::TransformListener listener(tf);
+  ASSERT_TRUE(ros::service::waitForService("/rrr_node/get_status", 30000));
+  ASSERT_TRUE(rrr_test::WaitFor(
+      [&] {
+        int finished = 0;
+        for (const auto& [robot, d] : done) finished += d;
+        return finished == n && rrr_test::Status().inputs_processed == inputs;
+      },
+      100.0))
+      << "processed " << rrr_test::Status().inputs_processed << " of "
+      << inputs;
+
+  rrr_slam::Finish finish;
+  ASSERT_TRUE(ros::service::call("/rrr_node/finish", finish));
+  EXPECT_EQ(finish.response.pending, 0u);
+  const std::string path =
+      "/tmp/rrr_fleet_test_" + std::to_string(::getpid()) + ".g2o";
+  rrr_slam::SaveGraph save;
+  save.request.path = path;
+  save.request.with_candidates = true;
+  ASSERT_TRUE(ros::service::call("/rrr_node/save_graph", save));
+  ASSERT_TRUE(save.response.success) << save.response.message;
+
+  // The node's decisions, in the recorded graph's loop order.
+  std::vector<std::pair<Ends, bool>> decisions;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("# DECISION ", 0) != 0) continue;
+    std::istringstream fields(line.substr(11));
+    std::string a, b, state;
+    fields >> a >> b >> state;
+    decisions.emplace_back(a + " " + b, state == "accepted");
+  }
+  const rrr::G2oFile file = rrr::ReadG2o(path);
+  std::remove(path.c_str());
+  const auto& graph = std::get<rrr::PoseGraph2>(file.graph);
+  ASSERT_EQ(decisions.size(), graph.loops().size());
+  EXPECT_EQ(decisions.size(), w.graph.loops().size());
+
+  // rrr verify's decisions on the recorded graph are the node's.
+  int window = 0;
+  ASSERT_TRUE(ros::param::get("/rrr_node/cluster_window", window));
+  rrr::RrrOptions options;
+  options.cluster_window = window;
+  const rrr::ChainsVerdict<rrr::Pose2> verdict =
+      rrr::VerifyChains(graph, options);
+  std::vector<bool> batch(graph.loops().size(), false);
+  for (const int k : verdict.verdict.accepted) batch[k] = true;
+  for (size_t k = 0; k < decisions.size(); ++k) {
+    EXPECT_EQ(decisions[k].second, batch[k]) << decisions[k].first;
+  }
+  // One map, no false loop in it, most true loops.
+  EXPECT_EQ(verdict.chains.size(), robots.size());
+  for (const int map : verdict.map_of_chain) EXPECT_EQ(map, 0);
+  size_t true_accepted = 0;
+  for (const auto& [ends, accepted] : decisions) {
+    const bool is_false = false_ends.count(ends) > 0;
+    if (accepted) {
+      EXPECT_FALSE(is_false) << "false loop " << ends;
+    }
+    true_accepted += accepted && !is_false;
+  }
+  EXPECT_GE(true_accepted, 0.85 * (decisions.size() - false_ends.size()));
+  // Every robot on tf in the map frame.
+  for (const std::string& robot : robots) {
+    EXPECT_TRUE(tf.canTransform("map", robot + "/odom", ros::Time(0),
+                                ros::Duration(2.0)))
+        << robot;
+  }
+  const auto status = rrr_test::Status();
+  EXPECT_EQ(status.invalid_messages, 0u);
+  // The update times, in the test's JUnit file.
+  RecordProperty("update_p50_s", std::to_string(status.update_seconds_p50));
+  RecordProperty("update_p99_s", std::to_string(status.update_seconds_p99));
+  RecordProperty("update_max_s", std::to_string(status.max_update_seconds));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "fleet_test");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
