@@ -6,7 +6,10 @@
 // of Finish(), the decisions, and whether they equal VerifyChains' on the
 // verifier's graph (the batch that `rrr verify` runs), with its time.
 //
-//     chains_online FILE.g2o [--window N]
+//     chains_online FILE.g2o [--window N] [--background]
+//
+// With --background, rules 1–3 between chains run on a thread of their own
+// (ChainsVerifier's in_background, as rrr_node runs them for a fleet).
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -40,8 +43,9 @@ double Quantile(std::vector<double> values, double q) {
 }
 
 template <class Pose>
-nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options) {
-  ChainsVerifier<Pose> verifier(options);
+nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options,
+                   bool background) {
+  ChainsVerifier<Pose> verifier(options, background);
   std::vector<double> updates;
   // FeedSideBySide reports each update's changes when it returns; the time
   // between two reports is one round's inputs and its update.
@@ -95,24 +99,31 @@ nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options) {
 }  // namespace rrr
 
 int main(int argc, char** argv) {
-  const std::string usage = "usage: chains_online FILE.g2o [--window N]\n";
-  if (argc != 2 && argc != 4) {
+  const std::string usage =
+      "usage: chains_online FILE.g2o [--window N] [--background]\n";
+  if (argc < 2) {
     std::cerr << usage;
     return 2;
   }
   rrr::RrrOptions options;
   options.cluster_window = 10;
-  if (argc == 4) {
-    if (std::string(argv[2]) != "--window") {
+  bool background = false;
+  for (int k = 2; k < argc; ++k) {
+    const std::string flag = argv[k];
+    if (flag == "--window" && k + 1 < argc) {
+      options.cluster_window = std::atoi(argv[++k]);
+    } else if (flag == "--background") {
+      background = true;
+    } else {
       std::cerr << usage;
       return 2;
     }
-    options.cluster_window = std::atoi(argv[3]);
   }
   try {
     const rrr::G2oFile file = rrr::ReadG2o(argv[1]);
     const nlohmann::json result = std::visit(
-        [&](const auto& g) { return rrr::Run(g, options); }, file.graph);
+        [&](const auto& g) { return rrr::Run(g, options, background); },
+        file.graph);
     std::cout << result.dump() << "\n";
   } catch (const std::exception& e) {
     std::cerr << "chains_online: error: " << e.what() << "\n";

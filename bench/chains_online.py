@@ -8,7 +8,11 @@ side by side with an update after every round. Prints the update times
 VerifyChains' (what rrr verify runs) on the same graph, and its time.
 
     bench/chains_online.py [--datasets manhattanOlson3500 city10000]
-        [--chains 2 4] [--outliers 100] [--kinds random] [--out bench/out/chains_online]
+        [--chains 2 4] [--outliers 100] [--kinds random] [--background]
+        [--out bench/out/chains_online]
+
+With --background, rules 1–3 between chains run on a thread of their own, as
+rrr_node runs them for a fleet.
 """
 import argparse
 import json
@@ -31,6 +35,7 @@ def main():
     parser.add_argument("--group", type=int, default=10)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--window", type=int, default=10)
+    parser.add_argument("--background", action="store_true")
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "chains_online"))
     args = parser.parse_args()
     common.require_rrr()
@@ -57,7 +62,8 @@ def main():
                                "--between-chains", *common.spoil_flags(kind, args.group),
                                "--output", spoiled, "--truth", out / f"{spoiled.stem}_false.txt")
                     result = json.loads(subprocess.run(
-                        [str(ONLINE), str(spoiled), "--window", str(args.window)],
+                        [str(ONLINE), str(spoiled), "--window", str(args.window)]
+                        + (["--background"] if args.background else []),
                         check=True, capture_output=True, text=True).stdout)
                     print(f"| {name} + {n} {kind} between | {result['chains']} | {result['candidates']} "
                           f"| {result['accepted']} | {result['maps']} | {result['update_median_ms']:.2f} "

@@ -29,6 +29,9 @@ rrr::FleetOptions FleetOptionsOf(const NodeOptions& options) {
   fleet.use_odometry_covariance = options.use_odometry_covariance;
   fleet.odometry_information = options.odometry_information;
   fleet.odometry_min_motion = options.odometry_min_motion;
+  // An update must not wait for the loops between robots to be judged
+  // again over the whole graph.
+  fleet.judge_between_in_background = true;
   return fleet;
 }
 

@@ -36,6 +36,8 @@ struct FleetOptions {
   bool use_odometry_covariance = true;
   std::vector<double> odometry_information;
   double odometry_min_motion = 0.05;
+  // Rules 1–3 between chains on a thread of their own (ChainsVerifier).
+  bool judge_between_in_background = false;
 };
 
 // The robots named at construction, each with its sessions: a session is one

@@ -40,7 +40,7 @@ Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
       options_(options),
       noise_(PerUnit<Pose>(options.odometry_information),
              options.odometry_min_motion),
-      verifier_(options.rrr),
+      verifier_(options.rrr, options.judge_between_in_background),
       sessions_(robots_.size()),
       next_id_(robots_.size(), 0),
       restart_(robots_.size(), false),

@@ -5,6 +5,7 @@
 #define RRR_RRR_CHAINS_CHAINS_VERIFIER_H_
 
 #include <functional>
+#include <future>
 #include <memory>
 #include <vector>
 
@@ -39,8 +40,17 @@ class ChainsVerifier {
  public:
   using Information = typename Constraint<Pose>::Information;
 
-  // Throws std::invalid_argument if `options` do not validate.
-  explicit ChainsVerifier(const RrrOptions& options);
+  // With `in_background`, rules 1–3 run on a thread of their own over a
+  // copy of the graph taken at an update, and their decisions are taken at
+  // the first update after they end (meanwhile updates take the chains' own
+  // decisions, and a change that calls for rules 1–3 again runs them once
+  // the running ones end): an update then costs what the chains' own
+  // decisions cost, and decisions between chains come later than without,
+  // by how long rules 1–3 take. Finish() waits for them and runs them once
+  // more, so its decisions are the same either way. Throws
+  // std::invalid_argument if `options` do not validate.
+  explicit ChainsVerifier(const RrrOptions& options,
+                          bool in_background = false);
   ~ChainsVerifier();
 
   // Starts a new chain at pose `id` (its ids count on from there); returns
@@ -111,26 +121,40 @@ class ChainsVerifier {
     Information information;
   };
 
+  // Rules 1–3 over a copy of the graph: what they judge, and their verdict.
+  struct Judgement {
+    PoseGraph<Pose> graph;               // Graph() at the copy
+    std::vector<int> candidate_of_loop;  // of graph's loops
+    int first_between = 0;               // graph's first loop between chains
+    std::vector<ChainAlone<Pose>> alone;
+    ChainsVerdict<Pose> verdict;
+  };
+
   std::vector<DecisionChange> Judge(bool finish);
-  // Rules 1–3 over the graph as it is, setting the states of the loops
-  // between chains.
-  void JudgeBetween(bool finish, std::vector<DecisionChange>* changes);
+  // The graph as it is and each chain's own decisions and map.
+  Judgement Snapshot();
+  // Sets the states of the loops between chains that `j` judged and the
+  // chains' frames; with `finish`, loops apart are refused and the maps
+  // minimized.
+  void Apply(Judgement j, bool finish, std::vector<DecisionChange>* changes);
   void SetState(int candidate, LoopState state,
                 std::vector<DecisionChange>* changes);
   // Whether pose `id` of chain `chain` exists.
   bool Exists(const ChainPose& p) const;
 
   RrrOptions options_;
+  bool in_background_;
   std::vector<std::unique_ptr<MapVerifier<Pose>>> chains_;
   // Per chain: fleet candidate number of each of its own candidates.
   std::vector<std::vector<int>> candidate_of_own_;
   std::vector<Candidate> candidates_;
   std::vector<Between> between_;
-  bool between_changed_ = false;  // since the last JudgeBetween
-  int num_ready_judged_ = 0;      // loops between chains it took
-  ChainsVerdict<Pose> judged_;    // its last result (pairs, maps)
-  std::vector<Pose> frames_;      // each chain's frame in its map's
-  bool finished_ = false;         // judged_.estimates minimized
+  bool between_changed_ = false;    // rules 1–3 must run again
+  std::future<Judgement> running_;  // rules 1–3 in the background
+  int num_ready_judged_ = 0;        // loops between chains it took
+  ChainsVerdict<Pose> judged_;      // its last result (pairs, maps)
+  std::vector<Pose> frames_;        // each chain's frame in its map's
+  bool finished_ = false;           // judged_.estimates minimized
 };
 
 // Feeds the chains of `graph` (ChainSpansOf) to `verifier` as robots moving

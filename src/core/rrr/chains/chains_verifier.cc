@@ -1,6 +1,7 @@
 #include "rrr/rrr/chains/chains_verifier.h"
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -14,8 +15,9 @@
 namespace rrr {
 
 template <class Pose>
-ChainsVerifier<Pose>::ChainsVerifier(const RrrOptions& options)
-    : options_(options) {
+ChainsVerifier<Pose>::ChainsVerifier(const RrrOptions& options,
+                                     bool in_background)
+    : options_(options), in_background_(in_background) {
   const std::string problem = options.Validate();
   if (!problem.empty()) throw std::invalid_argument(problem);
 }
@@ -201,14 +203,13 @@ template <class Pose>
 std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
   std::vector<DecisionChange> changes;
   if (chains_.empty()) return changes;
-  bool own_changed = false;
   for (int c = 0; c < num_chains(); ++c) {
     MapVerifier<Pose>& chain = *chains_[c];
     for (const DecisionChange& change :
          finish ? chain.Finish() : chain.Update()) {
       SetState(candidate_of_own_[c][change.candidate], change.current,
                &changes);
-      own_changed = true;
+      between_changed_ = between_changed_ || !between_.empty();
     }
   }
   // A loop between chains whose pose arrived takes part from now on.
@@ -218,22 +219,42 @@ std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
     ready += Exists(c.a) && Exists(c.b);
   }
   if (ready != num_ready_judged_) between_changed_ = true;
-  if (finish || between_changed_ || (own_changed && !between_.empty())) {
-    JudgeBetween(finish, &changes);
-    num_ready_judged_ = ready;
+  num_ready_judged_ = ready;
+  // Rules 1–3 that ran in the background: their decisions now (at Finish()
+  // they are judged again at once).
+  if (running_.valid() && (finish || running_.wait_for(std::chrono::seconds(
+                                         0)) == std::future_status::ready)) {
+    Judgement done = running_.get();
+    if (!finish) Apply(std::move(done), false, &changes);
+  }
+  if (finish) {
+    Judgement now = Snapshot();
+    now.verdict = JudgeBetweenChains(now.graph, now.alone, options_);
+    Apply(std::move(now), true, &changes);
     between_changed_ = false;
+  } else if (between_changed_ && !running_.valid()) {
+    between_changed_ = false;
+    Judgement now = Snapshot();
+    if (in_background_) {
+      running_ = std::async(std::launch::async, [j = std::move(now),
+                                                 options = options_]() mutable {
+        j.verdict = JudgeBetweenChains(j.graph, j.alone, options);
+        return std::move(j);
+      });
+    } else {
+      now.verdict = JudgeBetweenChains(now.graph, now.alone, options_);
+      Apply(std::move(now), false, &changes);
+    }
   }
   finished_ = finish;
   return changes;
 }
 
 template <class Pose>
-void ChainsVerifier<Pose>::JudgeBetween(bool finish,
-                                        std::vector<DecisionChange>* changes) {
-  std::vector<int> candidate_of_loop;
-  const PoseGraph<Pose> graph = Graph(&candidate_of_loop);
-  std::vector<ChainAlone<Pose>> alone(chains_.size());
-  int first_loop = 0;
+typename ChainsVerifier<Pose>::Judgement ChainsVerifier<Pose>::Snapshot() {
+  Judgement j;
+  j.graph = Graph(&j.candidate_of_loop);
+  j.alone.resize(chains_.size());
   for (size_t c = 0; c < chains_.size(); ++c) {
     MapVerifier<Pose>* chain = chains_[c].get();
     const int num_loops = static_cast<int>(chain->graph().loops().size());
@@ -241,30 +262,39 @@ void ChainsVerifier<Pose>::JudgeBetween(bool finish,
     for (int k = 0; k < chain->num_candidates(); ++k) {
       loop_of_candidate[k] = chain->loop_of(k);
     }
-    alone[c].verdict = VerdictOfVerifier(chain, loop_of_candidate, num_loops,
-                                         &alone[c].map, &alone[c].stats);
-    for (int k = 0; k < num_loops; ++k) alone[c].inside.push_back(first_loop++);
+    j.alone[c].verdict = VerdictOfVerifier(chain, loop_of_candidate, num_loops,
+                                           &j.alone[c].map, &j.alone[c].stats);
+    for (int k = 0; k < num_loops; ++k) {
+      j.alone[c].inside.push_back(j.first_between++);
+    }
   }
-  ChainsVerdict<Pose> judged = JudgeBetweenChains(graph, alone, options_);
-  std::vector<bool> accepted(graph.loops().size(), false);
+  return j;
+}
+
+template <class Pose>
+void ChainsVerifier<Pose>::Apply(Judgement j, bool finish,
+                                 std::vector<DecisionChange>* changes) {
+  ChainsVerdict<Pose>& judged = j.verdict;
+  std::vector<bool> accepted(j.graph.loops().size(), false);
   for (const int k : judged.verdict.accepted) accepted[k] = true;
-  for (size_t k = first_loop; k < graph.loops().size(); ++k) {
-    Candidate& c = candidates_[candidate_of_loop[k]];
+  for (size_t k = j.first_between; k < j.graph.loops().size(); ++k) {
+    Candidate& c = candidates_[j.candidate_of_loop[k]];
     c.reason = judged.verdict.reasons[k];
     const bool waits = !finish && c.reason.test == DecisionTest::kApart;
-    SetState(candidate_of_loop[k],
+    SetState(j.candidate_of_loop[k],
              accepted[k] ? LoopState::kAccepted
                          : (waits ? LoopState::kPending : LoopState::kRejected),
              changes);
   }
-  frames_.assign(chains_.size(), Pose());
-  for (int m = 0; m < num_chains(); ++m) {
-    const std::vector<Pose> frames = FramesIn(judged.pairs, num_chains(), m);
-    for (int c = 0; c < num_chains(); ++c) {
+  const int chains = static_cast<int>(judged.chains.size());
+  frames_.assign(chains, Pose());
+  for (int m = 0; m < chains; ++m) {
+    const std::vector<Pose> frames = FramesIn(judged.pairs, chains, m);
+    for (int c = 0; c < chains; ++c) {
       if (judged.map_of_chain[c] == m) frames_[c] = frames[c];
     }
   }
-  if (finish) MinimizeMaps(graph, judged.verdict.accepted, &judged);
+  if (finish) MinimizeMaps(j.graph, judged.verdict.accepted, &judged);
   judged_ = std::move(judged);
 }
 

@@ -196,6 +196,26 @@ TEST(ChainsVerifier, LoopsBetweenRobotsNeverJoinedWaitUntilFinishRefusesThem) {
   EXPECT_EQ(Accepted(verifier), AcceptedByVerifyChains(verifier));
 }
 
+TEST(ChainsVerifier, InTheBackgroundItDecidesAtFinishAsAtOnce) {
+  // The three sessions, every loop in arrival order, rules 1–3 on a thread
+  // of their own: the decisions at Finish() are VerifyChains' all the same.
+  const SimulatedWorld world = SimulateWorld(Grid(1500, 3));
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> three =
+      ThreeSessionsWithAFalseJoin(world, {500, 1000}, &true_loops);
+  ChainsVerifier<Pose2> verifier(ChainWorldOptions(), true);
+  const std::vector<int> candidate_of_loop =
+      FeedSideBySide(three, &verifier, 1);
+  verifier.Finish();
+  EXPECT_EQ(verifier.num_in_state(LoopState::kPending), 0);
+  EXPECT_EQ(Accepted(verifier), AcceptedByVerifyChains(verifier));
+  EXPECT_EQ(verifier.map_of_chain(1), 0);
+  EXPECT_EQ(verifier.map_of_chain(2), 0);
+  for (size_t loop = true_loops; loop < candidate_of_loop.size(); ++loop) {
+    EXPECT_NE(verifier.state(candidate_of_loop[loop]), LoopState::kAccepted);
+  }
+}
+
 TEST(ChainsVerifier, CandidatesBetweenChainsWaitForTheirPosesOrAreRefused) {
   ChainsVerifier<Pose2> verifier(ChainWorldOptions());
   const Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
