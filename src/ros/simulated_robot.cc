@@ -26,6 +26,7 @@ SimulatedRobotOptions SimulatedRobotOptions::Read(const ros::NodeHandle& nh) {
   nh.param("base_frame", o.base_frame, o.base_frame);
   nh.param("robots", o.robots, o.robots);
   nh.param("robot", o.robot, o.robot);
+  nh.param("restart_at", o.restart_at, o.restart_at);
   if (!o.robots.empty() &&
       std::find(o.robots.begin(), o.robots.end(), o.robot) == o.robots.end()) {
     throw std::invalid_argument(nh.resolveName("robot") + ": '" + o.robot +
@@ -65,7 +66,10 @@ SimulatedRobot::SimulatedRobot(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
               : first_of_robot_[me + 1] - 1;
   odometry_.assign(g.num_poses(), rrr::Pose2());
   for (int p = first_ + 1; p <= last_; ++p) {
-    odometry_[p] = odometry_[p - 1] * chain_.Between(p - 1, p).measurement;
+    odometry_[p] =
+        p == first_ + options_.restart_at
+            ? rrr::Pose2()
+            : odometry_[p - 1] * chain_.Between(p - 1, p).measurement;
   }
   loops_at_.resize(g.num_poses());
   for (size_t k = 0; k < g.loops().size(); ++k) {
@@ -115,7 +119,9 @@ void SimulatedRobot::OnTimer(const ros::TimerEvent&) {
   const ros::Time now = ros::Time::now();
   stamps_.resize(g.num_poses());
   stamps_[k] = now;
-  if (k > first_) {
+  if (k == first_ + options_.restart_at) {
+    covariance_ = rrr::OdometryCovariance::Zero();  // restarted
+  } else if (k > first_) {
     const auto step = chain_.Between(k - 1, k);
     covariance_ = rrr::OdometryNoiseModel<rrr::Pose2>::Grow(
         covariance_, odometry_[k], step.information);

@@ -22,10 +22,13 @@ struct SimulatedRobotOptions {
   // part with its odometry from zero. Empty: the whole world, alone.
   std::vector<std::string> robots;
   std::string robot;
+  // Its odometry starts again at zero at this pose of its part (a restart
+  // of the robot mid-run); -1: never.
+  int restart_at = -1;
 
   // Reads the private parameters (poses, false_loops, group, seed, rate,
-  // odom_frame, base_frame, robots, robot); throws std::invalid_argument
-  // naming a bad one.
+  // odom_frame, base_frame, robots, robot, restart_at); throws
+  // std::invalid_argument naming a bad one.
   static SimulatedRobotOptions Read(const ros::NodeHandle& nh);
 };
 
