@@ -145,7 +145,7 @@ bool FleetNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
     res.accepted = v.num_in_state(rrr::LoopState::kAccepted);
     res.rejected = v.num_in_state(rrr::LoopState::kRejected);
     res.pending = v.num_in_state(rrr::LoopState::kPending);
-    res.waiting = 0;
+    res.waiting = static_cast<uint32_t>(fleet_.num_waiting_for_robots());
   });
   return true;
 }
@@ -311,8 +311,6 @@ void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
     CountCandidateDefect(e.defect(), &status_);
     ROS_WARN_THROTTLE(5.0, "rrr_node: skipped loop closure message %u: %s", seq,
                       e.what());
-  } catch (const std::out_of_range& e) {
-    Invalid(what, seq, "a robot without keyframes yet");
   }
 }
 
@@ -385,6 +383,7 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kRejected));
   status_.pending =
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kPending));
+  status_.waiting = static_cast<uint32_t>(fleet_.num_waiting_for_robots());
   status_.keyframes = 0;
   for (int c = 0; c < v.num_chains(); ++c) {
     status_.keyframes += static_cast<uint32_t>(v.chain(c).graph().num_poses());

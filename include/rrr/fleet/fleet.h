@@ -81,11 +81,21 @@ class Fleet {
   // Adds the candidate z ≈ x_a⁻¹ · x_b between keyframe `id_a` of robot
   // `robot_a` and `id_b` of `robot_b` and returns its number. A keyframe not
   // there yet is taken as one of the robot's current session (it waits for
-  // it). Throws DegenerateCandidate as ChainsVerifier::AddLoop (keeping
-  // nothing), and std::out_of_range for a robot that does not exist or has
-  // no session yet.
+  // it). A candidate naming a robot without a keyframe yet (robots start
+  // one after the other) waits for its first keyframe and returns -1; it is
+  // added then, and refused then if degenerate (counted in
+  // refused_waiting()). Throws DegenerateCandidate as
+  // ChainsVerifier::AddLoop (keeping nothing), also when rrr.max_waiting
+  // candidates wait for robots already, and std::out_of_range for a robot
+  // that does not exist.
   int AddLoop(int robot_a, std::int64_t id_a, int robot_b, std::int64_t id_b,
               const Pose& z, const Information& information);
+  // Candidates waiting for a robot's first keyframe.
+  int num_waiting_for_robots() const {
+    return static_cast<int>(waiting_for_robots_.size());
+  }
+  // Candidates that waited for a robot and were refused once it came.
+  int refused_waiting() const { return refused_waiting_; }
 
   std::vector<DecisionChange> Update();
   std::vector<DecisionChange> Finish();
@@ -121,6 +131,8 @@ class Fleet {
     KeyframeTrack<Pose> track;  // its keyframes as odometry reported them
     std::vector<Pose> map;      // their corrected poses, in their map's frame
   };
+  // Adds the candidates that waited for robots that have keyframes now.
+  void AddWaitingLoops();
   // Refreshes every session's corrected poses from the verifier's maps.
   void RefreshMaps();
   // The session of robot `robot` holding keyframe `id` (the current one for
@@ -137,6 +149,16 @@ class Fleet {
   std::vector<std::int64_t> next_id_;       // by robot
   std::vector<bool> restart_;               // by robot
   std::vector<std::optional<KeyframeRecord<Pose>>> last_reading_;  // by robot
+  struct WaitingLoop {
+    int robot_a;
+    std::int64_t id_a;
+    int robot_b;
+    std::int64_t id_b;
+    Pose z;
+    Information information;
+  };
+  std::vector<WaitingLoop> waiting_for_robots_;  // in arrival order
+  int refused_waiting_ = 0;
 };
 
 }  // namespace rrr

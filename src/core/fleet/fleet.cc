@@ -7,6 +7,7 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/candidate_defect.h"
 
 namespace rrr {
 namespace {
@@ -98,6 +99,7 @@ typename Fleet<Pose>::Taken Fleet<Pose>::AddReading(
     taken.chain = chain;
     taken.id = next_id_[robot]++;
     last_reading_[robot] = reading;
+    if (sessions_[robot].size() == 1) AddWaitingLoops();
     return taken;
   }
   Session& session = sessions_by_chain_[sessions_[robot].back()];
@@ -139,9 +141,38 @@ template <class Pose>
 int Fleet<Pose>::AddLoop(int robot_a, std::int64_t id_a, int robot_b,
                          std::int64_t id_b, const Pose& z,
                          const Information& information) {
+  if (sessions_.at(robot_a).empty() || sessions_.at(robot_b).empty()) {
+    if (static_cast<int>(waiting_for_robots_.size()) >=
+        options_.rrr.max_waiting) {
+      throw DegenerateCandidate(
+          CandidateDefect::kWaitingFull,
+          "a candidate would wait for a robot's first keyframe while " +
+              std::to_string(options_.rrr.max_waiting) + " wait already");
+    }
+    waiting_for_robots_.push_back(
+        {robot_a, id_a, robot_b, id_b, z, information});
+    return -1;
+  }
   const Session& a = SessionHolding(robot_a, id_a);
   const Session& b = SessionHolding(robot_b, id_b);
   return verifier_.AddLoop({a.chain, id_a}, {b.chain, id_b}, z, information);
+}
+
+template <class Pose>
+void Fleet<Pose>::AddWaitingLoops() {
+  std::vector<WaitingLoop> still;
+  for (const WaitingLoop& w : waiting_for_robots_) {
+    if (sessions_[w.robot_a].empty() || sessions_[w.robot_b].empty()) {
+      still.push_back(w);
+      continue;
+    }
+    try {
+      AddLoop(w.robot_a, w.id_a, w.robot_b, w.id_b, w.z, w.information);
+    } catch (const DegenerateCandidate&) {
+      ++refused_waiting_;
+    }
+  }
+  waiting_for_robots_ = std::move(still);
 }
 
 template <class Pose>

@@ -177,7 +177,7 @@ TEST(Fleet, AJumpABackwardStampOrARequestStartsANewSession) {
   EXPECT_FALSE(no_jumps.AddReading(0, reading).new_session);
 }
 
-TEST(Fleet, RobotsAreNamedOnceAndCandidatesNeedTheirRobots) {
+TEST(Fleet, RobotsAreNamedOnceAndCandidatesWaitForTheirRobots) {
   EXPECT_THROW(Fleet<Pose2>({}, Options()), std::invalid_argument);
   EXPECT_THROW(Fleet<Pose2>({"a", "a"}, Options()), std::invalid_argument);
   EXPECT_THROW(Fleet<Pose2>({"a", ""}, Options()), std::invalid_argument);
@@ -186,9 +186,17 @@ TEST(Fleet, RobotsAreNamedOnceAndCandidatesNeedTheirRobots) {
   EXPECT_EQ(fleet.RobotIndex("c"), -1);
   fleet.AddReading(0, {});
   const Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
-  EXPECT_THROW(fleet.AddLoop(0, 0, 1, 0, Pose2(), information),
-               std::out_of_range)
-      << "robot b has no keyframe";
+  // Robot b has no keyframe yet (its process started later): the
+  // candidate waits for it, and is added with its first keyframe.
+  EXPECT_EQ(fleet.AddLoop(0, 0, 1, 0, Pose2(), information), -1);
+  EXPECT_EQ(fleet.num_waiting_for_robots(), 1);
+  EXPECT_EQ(fleet.verifier().num_candidates(), 0);
+  fleet.AddReading(1, {});
+  EXPECT_EQ(fleet.num_waiting_for_robots(), 0);
+  EXPECT_EQ(fleet.verifier().num_candidates(), 1);
+  EXPECT_EQ(fleet.refused_waiting(), 0);
+  EXPECT_THROW(fleet.AddLoop(0, 0, 3, 0, Pose2(), information),
+               std::out_of_range);
   EXPECT_THROW(fleet.AddReading(2, {}), std::out_of_range);
 }
 
