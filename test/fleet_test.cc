@@ -20,6 +20,7 @@
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/chains/verify_chains.h"
 #include "rrr/sim/simulated_world.h"
+#include "rrr_slam/GetDecisions.h"
 #include "rrr_slam/SaveGraph.h"
 
 namespace {
@@ -102,6 +103,22 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
   const auto& graph = std::get<rrr::PoseGraph2>(file.graph);
   ASSERT_EQ(decisions.size(), graph.loops().size());
   EXPECT_EQ(decisions.size(), w.graph.loops().size());
+
+  // ~get_decisions tells the same, naming robots and keyframes.
+  rrr_slam::GetDecisions all;
+  ASSERT_TRUE(ros::service::call("/rrr_node/get_decisions", all));
+  EXPECT_TRUE(all.response.decisions.full);
+  std::map<Ends, bool> told;
+  for (const auto& d : all.response.decisions.decisions) {
+    told[d.from_robot + ":" + std::to_string(d.from_id) + " " + d.to_robot +
+         ":" + std::to_string(d.to_id)] =
+        d.state == rrr_slam::LoopDecision::ACCEPTED;
+    EXPECT_NE(d.state, rrr_slam::LoopDecision::PENDING);
+  }
+  for (const auto& [ends, accepted] : decisions) {
+    ASSERT_EQ(told.count(ends), 1u) << ends;
+    EXPECT_EQ(told[ends], accepted) << ends;
+  }
 
   // rrr verify's decisions on the recorded graph are the node's.
   int window = 0;

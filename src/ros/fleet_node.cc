@@ -72,6 +72,10 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
   }
   marker_pub_ =
       private_nh_.advertise<visualization_msgs::MarkerArray>("graph", 1, true);
+  decision_pub_ =
+      private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
+  decisions_srv_ = private_nh_.advertiseService(
+      "get_decisions", &FleetNode::OnGetDecisions, this);
   finish_srv_ =
       private_nh_.advertiseService("finish", &FleetNode::OnFinish, this);
   save_srv_ =
@@ -200,6 +204,51 @@ bool FleetNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
 }
 
 template <class Pose>
+bool FleetNode<Pose>::OnGetDecisions(rrr_slam::GetDecisions::Request&,
+                                     rrr_slam::GetDecisions::Response& res) {
+  worker_.RunOnWorker([&] {
+    std::vector<int> every(fleet_.verifier().num_candidates());
+    for (size_t c = 0; c < every.size(); ++c) every[c] = static_cast<int>(c);
+    res.decisions = DecisionsMsg(every, {}, true);
+  });
+  return true;
+}
+
+template <class Pose>
+rrr_slam::Decisions FleetNode<Pose>::DecisionsMsg(
+    const std::vector<int>& carried,
+    const std::vector<rrr::DecisionChange>& changes, bool full) const {
+  const auto& v = fleet_.verifier();
+  rrr_slam::Decisions msg;
+  msg.header.stamp = ros::Time::now();
+  msg.header.frame_id = options_.map_frame;
+  msg.full = full;
+  std::map<int, rrr::LoopState> previous;
+  for (const auto& c : changes) previous.emplace(c.candidate, c.previous);
+  for (const int c : carried) {
+    rrr_slam::LoopDecision d;
+    d.candidate = c;
+    d.from_robot = options_.robots[fleet_.robot_of_chain(v.from(c).chain)];
+    d.to_robot = options_.robots[fleet_.robot_of_chain(v.to(c).chain)];
+    d.from_id = v.from(c).id;
+    d.to_id = v.to(c).id;
+    d.state = StateMsg(v.state(c));
+    d.cluster = v.cluster_of(c);
+    d.waiting = v.waiting(c);
+    SetReason(v.reason(c), v.decided_at(c), &d);
+    SetChange(previous, &msg, &d);
+    msg.decisions.push_back(d);
+  }
+  msg.candidates = static_cast<uint32_t>(v.num_candidates());
+  msg.accepted =
+      static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kAccepted));
+  msg.rejected =
+      static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kRejected));
+  msg.pending = static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kPending));
+  return msg;
+}
+
+template <class Pose>
 void FleetNode<Pose>::OnTfTimer(const ros::TimerEvent&) {
   std::lock_guard<std::mutex> lock(state_mutex_);
   const ros::Time stamp = ros::Time::now() + ros::Duration(options_.tf_period);
@@ -320,6 +369,17 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
   const std::vector<rrr::DecisionChange> changes =
       finish ? fleet_.Finish() : fleet_.Update();
   changed_ = changed_ || !changes.empty() || finish;
+  // ~decisions: the candidates new since the last message, or changed.
+  std::vector<int> carried;
+  for (const auto& c : changes) carried.push_back(c.candidate);
+  const int candidates = fleet_.verifier().num_candidates();
+  for (int c = candidates_published_; c < candidates; ++c) carried.push_back(c);
+  candidates_published_ = candidates;
+  std::sort(carried.begin(), carried.end());
+  carried.erase(std::unique(carried.begin(), carried.end()), carried.end());
+  if (!carried.empty() || finish) {
+    decision_pub_.publish(DecisionsMsg(carried, changes, false));
+  }
   const ros::WallTime now = ros::WallTime::now();
   if (changed_ &&
       (finish || (now - last_published_).toSec() >= options_.display_period)) {

@@ -17,8 +17,10 @@
 #include "node_options.h"
 #include "node_worker.h"
 #include "rrr/fleet/fleet.h"
+#include "rrr_slam/Decisions.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/FleetLoopClosure.h"
+#include "rrr_slam/GetDecisions.h"
 #include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
 #include "rrr_slam/SaveGraph.h"
@@ -33,7 +35,8 @@ namespace rrr_ros {
 // within the first robot). Callbacks only queue their input; one worker (the
 // thread that calls Run()) owns the fleet, takes the queue in batches and
 // publishes: `~<r>/keyframes`, `~<r>/path` (robot r's sessions in the map of
-// its current one), `~graph` (markers, a colour per robot), and on tf
+// its current one), `~graph` (markers, a colour per robot), `~decisions`
+// (the candidates new or changed at each update), and on tf
 // `<map frame> → <r>/<odom_frame>` for every robot with a keyframe. The map
 // that holds the first robot's first session is `map_frame`; a map that
 // does not is named after the robot of its oldest session, `<r>/map`, or
@@ -67,6 +70,8 @@ class FleetNode {
                    rrr_slam::SaveGraph::Response& res);
   bool OnGetStatus(rrr_slam::GetStatus::Request& req,
                    rrr_slam::GetStatus::Response& res);
+  bool OnGetDecisions(rrr_slam::GetDecisions::Request& req,
+                      rrr_slam::GetDecisions::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
 
   // Worker.
@@ -80,6 +85,11 @@ class FleetNode {
   void Invalid(const std::string& what, uint32_t seq, const std::string& why);
   // Runs the fleet's update (or Finish) and publishes.
   void UpdateAndPublish(bool finish);
+  // The candidates `carried` (ascending) with their state and reason, the
+  // `changes` since the last message marked; `full`: every candidate.
+  rrr_slam::Decisions DecisionsMsg(
+      const std::vector<int>& carried,
+      const std::vector<rrr::DecisionChange>& changes, bool full) const;
   // The frame of map `map` (a chain index; see the class comment).
   std::string MapFrame(int map) const;
   std::string RobotFrame(int robot, const std::string& frame) const;
@@ -89,8 +99,8 @@ class FleetNode {
   std::vector<ros::Subscriber> odom_subs_;
   ros::Subscriber fleet_loop_sub_, loop_sub_;
   std::vector<ros::Publisher> keyframe_pubs_, path_pubs_;
-  ros::Publisher marker_pub_;
-  ros::ServiceServer finish_srv_, save_srv_, status_srv_;
+  ros::Publisher marker_pub_, decision_pub_;
+  ros::ServiceServer finish_srv_, save_srv_, status_srv_, decisions_srv_;
   ros::Timer tf_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   Worker worker_;
@@ -101,6 +111,7 @@ class FleetNode {
   bool changed_ = false;  // keyframes or decisions since the last publishing
   ros::WallTime last_published_;
   uint64_t taken_since_update_ = 0;
+  int candidates_published_ = 0;  // on ~decisions, as new
 
   // Shared with the ROS threads under `state_mutex_`.
   std::mutex state_mutex_;

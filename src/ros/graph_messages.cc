@@ -8,18 +8,6 @@
 namespace rrr_ros {
 namespace {
 
-uint8_t ToMsg(rrr::LoopState s) {
-  switch (s) {
-    case rrr::LoopState::kAccepted:
-      return rrr_slam::LoopDecision::ACCEPTED;
-    case rrr::LoopState::kRejected:
-      return rrr_slam::LoopDecision::REJECTED;
-    case rrr::LoopState::kPending:
-      break;
-  }
-  return rrr_slam::LoopDecision::PENDING;
-}
-
 template <class Pose>
 rrr_slam::GraphEdge EdgeMsg(const rrr::PoseGraph<Pose>& g,
                             const rrr::Constraint<Pose>& e) {
@@ -73,6 +61,39 @@ visualization_msgs::Marker LoopMarker(const std::string& frame,
                     0.06);
 }
 
+uint8_t StateMsg(rrr::LoopState s) {
+  switch (s) {
+    case rrr::LoopState::kAccepted:
+      return rrr_slam::LoopDecision::ACCEPTED;
+    case rrr::LoopState::kRejected:
+      return rrr_slam::LoopDecision::REJECTED;
+    case rrr::LoopState::kPending:
+      break;
+  }
+  return rrr_slam::LoopDecision::PENDING;
+}
+
+void SetReason(const rrr::DecisionReason& reason, int64_t decided_at,
+               rrr_slam::LoopDecision* d) {
+  d->test = rrr::ToString(reason.test);
+  d->statistic = reason.statistic;
+  d->gate = reason.gate;
+  d->scale = reason.scale;
+  d->dof = reason.dof;
+  d->decided_at = decided_at;
+  d->by_cluster = reason.by_cluster;
+}
+
+void SetChange(const std::map<int, rrr::LoopState>& previous,
+               rrr_slam::Decisions* msg, rrr_slam::LoopDecision* d) {
+  const auto before = previous.find(static_cast<int>(d->candidate));
+  d->previous_state =
+      before == previous.end() ? d->state : StateMsg(before->second);
+  d->reversed =
+      before != previous.end() && before->second != rrr::LoopState::kPending;
+  if (before != previous.end()) msg->changed.push_back(msg->decisions.size());
+}
+
 template <class Pose>
 rrr_slam::Decisions DecisionsMsg(
     const rrr::OnlineVerifier<Pose>& verifier, const std::vector<int>& carried,
@@ -90,23 +111,13 @@ rrr_slam::Decisions DecisionsMsg(
     rrr_slam::LoopDecision d;
     d.candidate = c;
     std::tie(d.from_id, d.to_id) = verifier.ends_of(c);
-    d.state = ToMsg(verifier.state(c));
+    d.state = StateMsg(verifier.state(c));
     d.cluster = verifier.cluster_of(c);
     d.waiting = verifier.loop_of(c) < 0;
-    const auto before = previous.find(c);
-    d.previous_state =
-        before == previous.end() ? d.state : ToMsg(before->second);
-    d.reversed =
-        before != previous.end() && before->second != rrr::LoopState::kPending;
     const rrr::DecisionReason reason = verifier.reason(c);
-    d.test = rrr::ToString(reason.test);
-    d.statistic = reason.statistic;
-    d.gate = reason.gate;
-    d.scale = reason.scale;
-    d.dof = reason.dof;
-    d.decided_at = reason.pose < 0 ? -1 : verifier.graph().ids()[reason.pose];
-    d.by_cluster = reason.by_cluster;
-    if (before != previous.end()) msg.changed.push_back(msg.decisions.size());
+    SetReason(reason,
+              reason.pose < 0 ? -1 : verifier.graph().ids()[reason.pose], &d);
+    SetChange(previous, &msg, &d);
     msg.decisions.push_back(d);
   }
   msg.candidates = verifier.num_candidates();

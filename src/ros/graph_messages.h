@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -29,6 +30,18 @@ visualization_msgs::Marker MakeMarker(const std::string& frame,
 // "rejected", yellow "pending".
 visualization_msgs::Marker LoopMarker(const std::string& frame,
                                       rrr::LoopState state);
+
+// A candidate's state as LoopDecision carries it.
+uint8_t StateMsg(rrr::LoopState state);
+// Sets the reason fields of `d` from `reason`, decided as of keyframe
+// `decided_at` (-1: not decided).
+void SetReason(const rrr::DecisionReason& reason, int64_t decided_at,
+               rrr_slam::LoopDecision* d);
+// Sets d->previous_state and d->reversed from `previous` (the states before
+// the changes since the last message, by candidate; d->state set), and
+// lists `d` in msg->changed if it changed; `d` is appended next.
+void SetChange(const std::map<int, rrr::LoopState>& previous,
+               rrr_slam::Decisions* msg, rrr_slam::LoopDecision* d);
 
 // The state now of the candidates `carried` (ascending candidate numbers),
 // with `changes` (the updates' since the last message) marked as changed

@@ -83,6 +83,13 @@ class ChainsVerifier {
     return candidates_.at(candidate).state;
   }
   DecisionReason reason(int candidate) const;
+  // The candidate's cluster within its chain (-1 between chains, or while
+  // it waits or is not clustered yet), whether it waits for a pose, and the
+  // id in its chain of the pose as of which it was decided (-1 between
+  // chains or not decided).
+  int cluster_of(int candidate) const;
+  bool waiting(int candidate) const;
+  PoseId decided_at(int candidate) const;
   // The candidate's ends as given to AddLoop.
   ChainPose from(int candidate) const { return candidates_.at(candidate).a; }
   ChainPose to(int candidate) const { return candidates_.at(candidate).b; }

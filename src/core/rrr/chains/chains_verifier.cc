@@ -120,6 +120,27 @@ DecisionReason ChainsVerifier<Pose>::reason(int candidate) const {
 }
 
 template <class Pose>
+int ChainsVerifier<Pose>::cluster_of(int candidate) const {
+  const Candidate& c = candidates_.at(candidate);
+  return c.own >= 0 ? chains_[c.a.chain]->cluster_of(c.own) : -1;
+}
+
+template <class Pose>
+bool ChainsVerifier<Pose>::waiting(int candidate) const {
+  const Candidate& c = candidates_.at(candidate);
+  return c.own >= 0 ? chains_[c.a.chain]->loop_of(c.own) < 0
+                    : !Exists(c.a) || !Exists(c.b);
+}
+
+template <class Pose>
+PoseId ChainsVerifier<Pose>::decided_at(int candidate) const {
+  const Candidate& c = candidates_.at(candidate);
+  if (c.own < 0) return -1;
+  const int pose = chains_[c.a.chain]->reason(c.own).pose;
+  return pose < 0 ? -1 : chains_[c.a.chain]->graph().ids()[pose];
+}
+
+template <class Pose>
 int ChainsVerifier<Pose>::map_of_chain(int chain) const {
   static_cast<void>(chains_.at(chain));
   return chain < static_cast<int>(judged_.map_of_chain.size())
