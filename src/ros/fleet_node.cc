@@ -370,9 +370,10 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
       finish ? fleet_.Finish() : fleet_.Update();
   changed_ = changed_ || !changes.empty() || finish;
   // ~decisions: the candidates new since the last message, or changed.
-  std::vector<int> carried;
-  for (const auto& c : changes) carried.push_back(c.candidate);
   const int candidates = fleet_.verifier().num_candidates();
+  std::vector<int> carried;
+  carried.reserve(changes.size() + candidates - candidates_published_);
+  for (const auto& c : changes) carried.push_back(c.candidate);
   for (int c = candidates_published_; c < candidates; ++c) carried.push_back(c);
   candidates_published_ = candidates;
   std::sort(carried.begin(), carried.end());
