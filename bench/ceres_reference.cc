@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "json_of_graph.h"
 #include "rrr/io/g2o.h"
 #include "rrr/solver/chordal_initialization.h"
 #include "rrr/solver/edge_error.h"
@@ -232,15 +233,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  try {
-    const rrr::G2oFile file = rrr::ReadG2o(argv[1]);
-    const nlohmann::json result = std::visit(
-        [&](const auto& g) { return rrr::Solve(g, max_iterations, chordal); },
-        file.graph);
-    std::cout << result.dump() << "\n";
-  } catch (const std::exception& e) {
-    std::cerr << "ceres_reference: error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+  return rrr::PrintJsonOfGraph("ceres_reference", argv[1], [&](const auto& g) {
+    return rrr::Solve(g, max_iterations, chordal);
+  });
 }

@@ -19,6 +19,7 @@
 #include <variant>
 #include <vector>
 
+#include "json_of_graph.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
@@ -119,15 +120,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  try {
-    const rrr::G2oFile file = rrr::ReadG2o(argv[1]);
-    const nlohmann::json result = std::visit(
-        [&](const auto& g) { return rrr::Run(g, options, background); },
-        file.graph);
-    std::cout << result.dump() << "\n";
-  } catch (const std::exception& e) {
-    std::cerr << "chains_online: error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+  return rrr::PrintJsonOfGraph("chains_online", argv[1], [&](const auto& g) {
+    return rrr::Run(g, options, background);
+  });
 }
