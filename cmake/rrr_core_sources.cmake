@@ -51,6 +51,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/chains/verify_chains.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc
+  src/core/session/fleet_store.cc
   src/core/session/session_tables.cc
   src/core/session/compressed_blob.cc
   src/core/session/session_contents.cc

@@ -61,6 +61,7 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
       worker_(options.max_queue_length),
       fleet_(options.robots, FleetOptionsOf(options)) {
   status_.procedure = rrr::ToString(options_.rrr.procedure);
+  if (!options_.database.empty()) Resume();
   const int robots = static_cast<int>(options_.robots.size());
   map_to_odom_.resize(robots);
   for (int r = 0; r < robots; ++r) {
@@ -120,6 +121,35 @@ FleetNode<Pose>::~FleetNode() {
 template <class Pose>
 void FleetNode<Pose>::Stop() {
   worker_.Stop();
+}
+
+template <class Pose>
+void FleetNode<Pose>::Resume() {
+  try {
+    store_ = std::make_unique<rrr::FleetStore<Pose>>(
+        options_.database, options_.robots,
+        rrr::ToString(options_.rrr.procedure));
+    const rrr::FleetResumeSummary summary = store_->Resume(&fleet_);
+    if (summary.differing_decisions > 0) {
+      ROS_WARN(
+          "rrr_node: %d decisions differ from the ones %s recorded (were the "
+          "options changed, or loops between robots judged at another "
+          "update?)",
+          summary.differing_decisions, options_.database.c_str());
+    }
+    status_.database = options_.database;
+    status_.resumed_keyframes = summary.keyframes;
+    status_.resumed_candidates = summary.candidates;
+    status_.updates = summary.updates;
+    changed_ = summary.keyframes > 0;
+    ROS_INFO(
+        "rrr_node: fleet session %s: resumed %d keyframes in %d sessions, %d "
+        "candidates, %d updates; each robot continues in a new session",
+        options_.database.c_str(), summary.keyframes, summary.sessions,
+        summary.candidates, summary.updates);
+  } catch (const rrr::SessionError& e) {
+    throw std::invalid_argument(std::string("database: ") + e.what());
+  }
 }
 
 template <class Pose>
@@ -307,6 +337,7 @@ void FleetNode<Pose>::Process(const RobotOdometry& odometry) {
              static_cast<long long>(taken.id));
   }
   if (!taken.keyframe) return;
+  if (store_) store_->RecordKeyframe(r, reading, taken.new_session);
   changed_ = true;
   rrr_slam::Keyframe keyframe;
   keyframe.header.stamp = msg.header.stamp;
@@ -354,6 +385,10 @@ void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
   }
   try {
     fleet_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
+    if (store_) {
+      store_->RecordCandidate(from, loop.from_id, to, loop.to_id, z,
+                              information);
+    }
     changed_ = true;
   } catch (const rrr::DegenerateCandidate& e) {
     std::lock_guard<std::mutex> lock(state_mutex_);
@@ -368,6 +403,18 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<rrr::DecisionChange> changes =
       finish ? fleet_.Finish() : fleet_.Update();
+  if (store_) {
+    try {
+      store_->CommitUpdate(finish, changes);
+    } catch (const rrr::SessionError& e) {
+      {
+        std::lock_guard<std::mutex> lock(state_mutex_);
+        ++status_.database_errors;
+      }
+      ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
+                         e.what());
+    }
+  }
   changed_ = changed_ || !changes.empty() || finish;
   // ~decisions: the candidates new since the last message, or changed.
   const int candidates = fleet_.verifier().num_candidates();

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <variant>
@@ -17,6 +18,7 @@
 #include "node_options.h"
 #include "node_worker.h"
 #include "rrr/fleet/fleet.h"
+#include "rrr/session/fleet_store.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/FleetLoopClosure.h"
@@ -40,7 +42,9 @@ namespace rrr_ros {
 // `<map frame> → <r>/<odom_frame>` for every robot with a keyframe. The map
 // that holds the first robot's first session is `map_frame`; a map that
 // does not is named after the robot of its oldest session, `<r>/map`, or
-// `<r>/map_<k>` if that is its session k > 0.
+// `<r>/map_<k>` if that is its session k > 0. With `database` set, the
+// fleet's inputs and decisions are recorded there at each update, and a node
+// started on it resumes them (each robot then in a new session).
 template <class Pose>
 class FleetNode {
  public:
@@ -74,6 +78,9 @@ class FleetNode {
                       rrr_slam::GetDecisions::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
 
+  // Opens the session database and replays it into the fleet; throws
+  // std::invalid_argument naming the database if it cannot.
+  void Resume();
   // Worker.
   void Process(const RobotOdometry& odometry);
   void Process(const rrr_slam::FleetLoopClosure::ConstPtr& msg);
@@ -108,6 +115,7 @@ class FleetNode {
 
   // Worker state.
   rrr::Fleet<Pose> fleet_;
+  std::unique_ptr<rrr::FleetStore<Pose>> store_;  // with `database` set
   bool changed_ = false;  // keyframes or decisions since the last publishing
   ros::WallTime last_published_;
   uint64_t taken_since_update_ = 0;

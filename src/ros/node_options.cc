@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace rrr_ros {
 namespace {
@@ -10,6 +12,23 @@ namespace {
 [[noreturn]] void Bad(const ros::NodeHandle& nh, const std::string& name,
                       const std::string& why) {
   throw std::invalid_argument("parameter " + nh.resolveName(name) + ": " + why);
+}
+
+// Names from "[a, b]" or "a,b" (as `_robots:=[a, b]` on rosrun's command
+// line arrives: roscpp sets such a parameter as a string).
+std::vector<std::string> NamesOf(const std::string& text) {
+  std::vector<std::string> names;
+  std::string name;
+  for (const char c : text + ",") {
+    if (c == ',') {
+      names.push_back(name);
+      name.clear();
+    } else if (c != '[' && c != ']' && c != ' ' && c != '\'' && c != '"') {
+      name += c;
+    }
+  }
+  if (names.size() == 1 && names[0].empty()) names.clear();
+  return names;
 }
 
 }  // namespace
@@ -95,7 +114,12 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   nh.param("noise_margin", o.rrr.noise_margin, o.rrr.noise_margin);
   nh.param("map_radius", o.rrr.map_radius, o.rrr.map_radius);
   nh.param("map_junctions", o.rrr.map_junctions, o.rrr.map_junctions);
-  nh.param("robots", o.robots, o.robots);
+  std::string robots;
+  if (nh.getParam("robots", robots)) {
+    o.robots = NamesOf(robots);
+  } else {
+    nh.param("robots", o.robots, o.robots);
+  }
   for (size_t r = 0; r < o.robots.size(); ++r) {
     const std::string& name = o.robots[r];
     if (name.empty() || name.find_first_of("/ ") != std::string::npos ||
@@ -104,10 +128,6 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
           "robot " + std::to_string(r) + " ('" + name +
               "') must be a unique, non-empty name without '/' or spaces");
     }
-  }
-  if (!o.robots.empty() && !o.database.empty()) {
-    Bad(nh, "database",
-        "a fleet (robots set) keeps no session database yet; leave it empty");
   }
   if (!o.robots.empty() && o.rrr.procedure != rrr::Procedure::kMap) {
     Bad(nh, "procedure", "a fleet (robots set) is judged by 'map' only");

@@ -74,6 +74,12 @@ class Fleet {
   // restart_jump from it starts a new session. Throws std::out_of_range for
   // a robot that does not exist.
   Taken AddReading(int robot, const KeyframeRecord<Pose>& reading);
+  // Takes `keyframe` as the robot's next keyframe, as AddReading made one
+  // (to replay a recording): the first of a new session if `new_session`,
+  // else the next of its current session, whatever it moved. Throws
+  // std::logic_error for `new_session` false and no session yet.
+  Taken AddKeyframe(int robot, const KeyframeRecord<Pose>& keyframe,
+                    bool new_session);
   // The robot's next reading starts a new session (a restart the odometry
   // does not show, as after a node restart).
   void StartSession(int robot);

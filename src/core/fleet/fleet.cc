@@ -75,51 +75,64 @@ void Fleet<Pose>::StartSession(int robot) {
 template <class Pose>
 typename Fleet<Pose>::Taken Fleet<Pose>::AddReading(
     int robot, const KeyframeRecord<Pose>& reading) {
-  Taken taken;
   const std::optional<KeyframeRecord<Pose>>& last = last_reading_.at(robot);
   const bool restarts =
       !last || restart_[robot] || reading.stamp_ns < last->stamp_ns ||
       (options_.restart_jump > 0.0 &&
        (last->odometry_pose.between(reading.odometry_pose).translation())
                .norm() > options_.restart_jump);
-  if (restarts) {
-    const int chain =
-        verifier_.AddChain(next_id_[robot], reading.odometry_pose);
-    sessions_by_chain_.push_back(
-        {chain,
-         next_id_[robot],
-         KeyframeTrack<Pose>(options_.keyframe_translation,
-                             options_.keyframe_rotation, 0),
-         {reading.odometry_pose}});
-    sessions_by_chain_.back().track.Append(reading);
-    robot_of_chain_.push_back(robot);
-    sessions_[robot].push_back(chain);
-    restart_[robot] = false;
-    taken.keyframe = taken.new_session = true;
-    taken.chain = chain;
-    taken.id = next_id_[robot]++;
-    last_reading_[robot] = reading;
-    if (sessions_[robot].size() == 1) AddWaitingLoops();
-    return taken;
-  }
-  Session& session = sessions_by_chain_[sessions_[robot].back()];
-  const auto judged = session.track.Judge(reading);
+  if (restarts) return AddKeyframe(robot, reading, true);
+  Taken taken;
+  const auto judged =
+      sessions_by_chain_[sessions_[robot].back()].track.Judge(reading);
   if (!judged.problem.empty()) {
     taken.problem = judged.problem;
     return taken;
   }
-  last_reading_[robot] = reading;
-  if (!judged.keyframe) return taken;
-  const KeyframeRecord<Pose> newest = session.track.newest();
-  const Information information = noise_.EdgeInformation(
-      newest.odometry_pose, newest.covariance, reading.odometry_pose,
-      reading.covariance, options_.use_odometry_covariance);
-  verifier_.AddOdometry(session.chain, judged.motion, information);
-  session.track.Append(reading);
-  session.map.push_back(session.map.back() * judged.motion);
+  if (!judged.keyframe) {
+    last_reading_[robot] = reading;
+    return taken;
+  }
+  return AddKeyframe(robot, reading, false);
+}
+
+template <class Pose>
+typename Fleet<Pose>::Taken Fleet<Pose>::AddKeyframe(
+    int robot, const KeyframeRecord<Pose>& keyframe, bool new_session) {
+  if (!new_session && sessions_.at(robot).empty()) {
+    throw std::logic_error("robot '" + robots_[robot] +
+                           "' has no session to continue");
+  }
+  Taken taken;
   taken.keyframe = true;
-  taken.chain = session.chain;
+  taken.new_session = new_session;
   taken.id = next_id_[robot]++;
+  last_reading_[robot] = keyframe;
+  if (new_session) {
+    taken.chain = verifier_.AddChain(taken.id, keyframe.odometry_pose);
+    sessions_by_chain_.push_back(
+        {taken.chain,
+         taken.id,
+         KeyframeTrack<Pose>(options_.keyframe_translation,
+                             options_.keyframe_rotation, 0),
+         {keyframe.odometry_pose}});
+    sessions_by_chain_.back().track.Append(keyframe);
+    robot_of_chain_.push_back(robot);
+    sessions_[robot].push_back(taken.chain);
+    restart_[robot] = false;
+    if (sessions_[robot].size() == 1) AddWaitingLoops();
+    return taken;
+  }
+  Session& session = sessions_by_chain_[sessions_[robot].back()];
+  const KeyframeRecord<Pose> newest = session.track.newest();
+  const Pose motion = newest.odometry_pose.between(keyframe.odometry_pose);
+  const Information information = noise_.EdgeInformation(
+      newest.odometry_pose, newest.covariance, keyframe.odometry_pose,
+      keyframe.covariance, options_.use_odometry_covariance);
+  verifier_.AddOdometry(session.chain, motion, information);
+  session.track.Append(keyframe);
+  session.map.push_back(session.map.back() * motion);
+  taken.chain = session.chain;
   return taken;
 }
 

@@ -17,6 +17,7 @@ namespace {
 
 using testing::ChainWorldOptions;
 using testing::Grid;
+using testing::Readings;
 
 FleetOptions Options() {
   FleetOptions options;
@@ -24,28 +25,6 @@ FleetOptions Options() {
   // The worlds' readings are their poses, about a metre apart.
   options.restart_jump = 3.0;
   return options;
-}
-
-// A robot's odometry readings over poses first..last of `graph`: its pose in
-// its odometry frame composed from the identity at `first` (an odometry that
-// starts at zero), stamped 20 ms apart from `stamp_ns`, each with the
-// covariance a source reports when its motions have the graph's odometry
-// information.
-std::vector<KeyframeRecord<Pose2>> Readings(const PoseGraph<Pose2>& graph,
-                                            int first, int last,
-                                            std::int64_t stamp_ns) {
-  std::vector<KeyframeRecord<Pose2>> readings(1);
-  readings[0].stamp_ns = stamp_ns;
-  for (const auto& e : graph.odometry()) {
-    if (e.to <= first || e.to > last) continue;
-    KeyframeRecord<Pose2> next;
-    next.stamp_ns = readings.back().stamp_ns + 20'000'000;
-    next.odometry_pose = readings.back().odometry_pose * e.measurement;
-    next.covariance = OdometryNoiseModel<Pose2>::Grow(
-        readings.back().covariance, next.odometry_pose, e.information);
-    readings.push_back(next);
-  }
-  return readings;
 }
 
 TEST(Fleet, ARobotThatRestartsContinuesInASessionJoinedOnlyByItsLoops) {

@@ -21,26 +21,14 @@ class SessionStore<Pose>::Impl {
   Impl(const std::string& path, const std::string& procedure,
        int checkpoint_keyframes)
       : db(path, true), checkpoint_keyframes(checkpoint_keyframes) {
-    db.Execute("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL;");
-    SqliteStatement count(&db, "SELECT count(*) FROM sqlite_master");
-    count.Step();
-    if (count.Int(0) == 0) {
-      db.Execute(std::string("BEGIN;") + kSchema +
-                 StampedWaitingTable<Pose>::kSchema + kCheckpointSchema +
-                 "COMMIT;");
-      SqliteStatement meta(&db, "INSERT INTO meta(key, value) VALUES (?, ?)");
-      const std::pair<std::string, std::string> rows[] = {
-          {"schema_version", std::to_string(kSessionSchemaVersion)},
-          {"dimension",
-           std::to_string(DimensionOf(static_cast<const Pose*>(nullptr)))},
-          {"procedure", procedure}};
-      for (const auto& [key, value] : rows) {
-        meta.Bind(1, key);
-        meta.Bind(2, value);
-        meta.Step();
-        meta.Reset();
-      }
-    }
+    PrepareForRecording(
+        &db,
+        std::string(kSchema) + kUpdatesSchema +
+            StampedWaitingTable<Pose>::kSchema + kCheckpointSchema,
+        {{"schema_version", std::to_string(kSessionSchemaVersion)},
+         {"dimension",
+          std::to_string(DimensionOf(static_cast<const Pose*>(nullptr)))},
+         {"procedure", procedure}});
     int version = 0;
     const int dimension = CheckSchema(&db, &version);
     if (version < kSessionSchemaVersion) {  // brought up: the tables it lacked
@@ -50,31 +38,11 @@ class SessionStore<Pose>::Impl {
                  std::to_string(kSessionSchemaVersion) +
                  "' WHERE key = 'schema_version'; COMMIT;");
     }
-    if (dimension != DimensionOf(static_cast<const Pose*>(nullptr))) {
-      db.Fail("it holds a " + std::to_string(dimension) +
-              "D session, but this verifier is " +
-              std::to_string(DimensionOf(static_cast<const Pose*>(nullptr))) +
-              "D");
-    }
-    const std::string recorded = MetaValue(&db, "procedure");
-    if (recorded != procedure) {
-      db.Fail("it was recorded with the " + recorded +
-              " procedure; resume it with the same procedure, not " +
-              procedure);
-    }
-    SqliteStatement last(&db,
-                         "SELECT coalesce(max(seq), 0), (SELECT "
-                         "coalesce(max(number), 0) FROM updates) FROM inputs");
-    last.Step();
-    next_seq = last.Int(0) + 1;
-    next_update = last.Int(1) + 1;
+    CheckRecordedAs(&db, "session", dimension,
+                    DimensionOf(static_cast<const Pose*>(nullptr)), procedure);
+    NextNumbers(&db, &next_seq, &next_update);
     insert_input = std::make_unique<SqliteStatement>(&db, kInsertInput);
-    insert_update = std::make_unique<SqliteStatement>(
-        &db, "INSERT INTO updates(number, last_seq, finish) VALUES (?, ?, ?)");
-    insert_decision = std::make_unique<SqliteStatement>(
-        &db,
-        "INSERT INTO decisions(update_number, candidate, state) VALUES (?, ?, "
-        "?)");
+    updates = std::make_unique<UpdateLog>(&db);
     waiting = std::make_unique<StampedWaitingTable<Pose>>(&db);
   }
 
@@ -83,7 +51,8 @@ class SessionStore<Pose>::Impl {
   // Keyframes committed (or resumed) since the last checkpoint.
   std::int64_t keyframes_since_checkpoint = 0;
   // Prepared once, used by every CommitUpdate.
-  std::unique_ptr<SqliteStatement> insert_input, insert_update, insert_decision;
+  std::unique_ptr<SqliteStatement> insert_input;
+  std::unique_ptr<UpdateLog> updates;
   std::int64_t next_seq = 1, next_update = 1;
   std::unique_ptr<StampedWaitingTable<Pose>> waiting;
   // Rows recorded since the last commit, as bound values.
@@ -204,20 +173,7 @@ void SessionStore<Pose>::CommitUpdate(
       insert.Step();
       insert.Reset();
     }
-    SqliteStatement& update = *impl_->insert_update;
-    update.Bind(1, impl_->next_update);
-    update.Bind(2, seq - 1);
-    update.Bind(3, static_cast<std::int64_t>(finish));
-    update.Step();
-    update.Reset();
-    SqliteStatement& decision = *impl_->insert_decision;
-    for (const DecisionChange& change : changes) {
-      decision.Bind(1, impl_->next_update);
-      decision.Bind(2, static_cast<std::int64_t>(change.candidate));
-      decision.Bind(3, static_cast<std::int64_t>(change.current));
-      decision.Step();
-      decision.Reset();
-    }
+    impl_->updates->Append(impl_->next_update, seq - 1, finish, changes);
     impl_->waiting->Write();
     if (verifier && impl_->checkpoint_keyframes > 0 &&
         keyframes >= impl_->checkpoint_keyframes) {
@@ -242,11 +198,8 @@ void SessionStore<Pose>::CommitUpdate(
     impl_->pending.clear();
     impl_->waiting->Committed();
   } catch (...) {
-    for (auto* statement :
-         {impl_->insert_input.get(), impl_->insert_update.get(),
-          impl_->insert_decision.get()}) {
-      statement->Reset();
-    }
+    impl_->insert_input->Reset();
+    impl_->updates->Reset();
     impl_->waiting->Failed();
     sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
     throw;

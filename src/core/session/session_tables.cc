@@ -4,6 +4,74 @@
 
 namespace rrr {
 
+void PrepareForRecording(
+    SqliteDb* db, const std::string& schema,
+    const std::vector<std::pair<std::string, std::string>>& meta) {
+  db->Execute("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL;");
+  SqliteStatement count(db, "SELECT count(*) FROM sqlite_master");
+  count.Step();
+  if (count.Int(0) != 0) return;
+  db->Execute("BEGIN;" + schema + "COMMIT;");
+  SqliteStatement insert(db, "INSERT INTO meta(key, value) VALUES (?, ?)");
+  for (const auto& [key, value] : meta) {
+    insert.Bind(1, key);
+    insert.Bind(2, value);
+    insert.Step();
+    insert.Reset();
+  }
+}
+
+void CheckRecordedAs(SqliteDb* db, const std::string& what,
+                     int recorded_dimension, int dimension,
+                     const std::string& procedure) {
+  if (recorded_dimension != dimension) {
+    db->Fail("it holds a " + std::to_string(recorded_dimension) + "D " + what +
+             ", but this verifier is " + std::to_string(dimension) + "D");
+  }
+  const std::string recorded = MetaValue(db, "procedure");
+  if (recorded != procedure) {
+    db->Fail("it was recorded with the " + recorded +
+             " procedure; resume it with the same procedure, not " + procedure);
+  }
+}
+
+void NextNumbers(SqliteDb* db, std::int64_t* seq, std::int64_t* update) {
+  SqliteStatement last(db,
+                       "SELECT coalesce(max(seq), 0), (SELECT "
+                       "coalesce(max(number), 0) FROM updates) FROM inputs");
+  last.Step();
+  *seq = last.Int(0) + 1;
+  *update = last.Int(1) + 1;
+}
+
+UpdateLog::UpdateLog(SqliteDb* db)
+    : insert_update_(
+          db, "INSERT INTO updates(number, last_seq, finish) VALUES (?, ?, ?)"),
+      insert_decision_(db,
+                       "INSERT INTO decisions(update_number, candidate, state) "
+                       "VALUES (?, ?, ?)") {}
+
+void UpdateLog::Append(std::int64_t number, std::int64_t last_seq, bool finish,
+                       const std::vector<DecisionChange>& changes) {
+  insert_update_.Bind(1, number);
+  insert_update_.Bind(2, last_seq);
+  insert_update_.Bind(3, static_cast<std::int64_t>(finish));
+  insert_update_.Step();
+  insert_update_.Reset();
+  for (const DecisionChange& change : changes) {
+    insert_decision_.Bind(1, number);
+    insert_decision_.Bind(2, static_cast<std::int64_t>(change.candidate));
+    insert_decision_.Bind(3, static_cast<std::int64_t>(change.current));
+    insert_decision_.Step();
+    insert_decision_.Reset();
+  }
+}
+
+void UpdateLog::Reset() {
+  insert_update_.Reset();
+  insert_decision_.Reset();
+}
+
 std::vector<UpdateRow> ReadUpdates(SqliteDb* db) {
   SqliteStatement query(
       db, "SELECT number, last_seq, finish FROM updates ORDER BY number");
@@ -52,6 +120,9 @@ std::string MetaValue(SqliteDb* db, const std::string& key) {
 // reads (1 or kSessionSchemaVersion); returns its dimension (2 or 3) and
 // sets `*version`.
 int CheckSchema(SqliteDb* db, int* version) {
+  if (IsFleetDatabase(db)) {
+    db->Fail("it is a fleet's session database; resume it with robots set");
+  }
   const std::string text = MetaValue(db, "schema_version");
   *version = 0;
   for (int v = 1; v <= kSessionSchemaVersion; ++v) {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rrr/session/session_store.h"
@@ -33,12 +34,48 @@ CREATE TABLE inputs(
   measurement BLOB,            -- odometry edge or candidate
   information BLOB);           -- odometry edge or candidate (*)
 -- (*) the upper triangle, row by row, if symmetric, else every entry.
+)sql";
+
+// The updates and the decisions each changed, in a robot's database and in a
+// fleet's.
+inline constexpr const char* kUpdatesSchema = R"sql(
 CREATE TABLE updates(number INTEGER PRIMARY KEY,
   last_seq INTEGER NOT NULL,   -- the inputs up to here came before it
   finish INTEGER NOT NULL);
 CREATE TABLE decisions(update_number INTEGER NOT NULL,
   candidate INTEGER NOT NULL, state INTEGER NOT NULL);
 )sql";
+
+// Sets the WAL journal of a database opened to record and, if it has no
+// table yet, creates `schema` and the `meta` rows (key, value) in it.
+void PrepareForRecording(
+    SqliteDb* db, const std::string& schema,
+    const std::vector<std::pair<std::string, std::string>>& meta);
+
+// Fails unless a database of `what` ("session", "fleet") recorded in
+// `recorded_dimension` by the procedure its meta names is resumed in
+// `dimension` by `procedure`.
+void CheckRecordedAs(SqliteDb* db, const std::string& what,
+                     int recorded_dimension, int dimension,
+                     const std::string& procedure);
+
+// The numbers the next input and the next update of `db` take.
+void NextNumbers(SqliteDb* db, std::int64_t* seq, std::int64_t* update);
+
+// Writes updates and the decisions they changed, inside the caller's
+// transaction.
+class UpdateLog {
+ public:
+  explicit UpdateLog(SqliteDb* db);
+  // Writes update `number`, which came after the inputs up to `last_seq`.
+  void Append(std::int64_t number, std::int64_t last_seq, bool finish,
+              const std::vector<DecisionChange>& changes);
+  // Readies the statements again after a failed transaction.
+  void Reset();
+
+ private:
+  SqliteStatement insert_update_, insert_decision_;
+};
 
 // At most one row: the verifier's state (OnlineVerifier::SaveState, stored
 // compressed by Compress) after update `update_number`, which came after the
@@ -137,6 +174,9 @@ std::map<int, LoopState> ReadFinalStates(SqliteDb* db);
 
 // The value of `key` in the meta table; fails if there is none.
 std::string MetaValue(SqliteDb* db, const std::string& key);
+
+// Whether `db` is a fleet's session database (FleetStore).
+bool IsFleetDatabase(SqliteDb* db);
 
 // Checks that `db` is a session database of a schema version this library
 // reads (1 to kSessionSchemaVersion) with the tables of that version;

@@ -3,11 +3,14 @@
 #define RRR_CORE_TESTING_CHAIN_WORLDS_H_
 
 #include <algorithm>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/graph/chain_spans.h"
+#include "rrr/graph/keyframe_track.h"
+#include "rrr/graph/odometry_noise.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/rrr/options.h"
@@ -157,6 +160,27 @@ inline PoseGraph<Pose2> ThreeSessionsWithAFalseJoin(
     if (first_two(drawn.loops()[k])) three.AddEdge(drawn.loops()[k]);
   }
   return three;
+}
+
+// A robot's odometry readings over poses first..last of `graph`: its pose in
+// its odometry frame composed from the identity at `first` (an odometry that
+// starts at zero), stamped 20 ms apart from `stamp_ns`, each with the
+// covariance a source reports when its motions have the graph's odometry
+// information.
+inline std::vector<KeyframeRecord<Pose2>> Readings(
+    const PoseGraph<Pose2>& graph, int first, int last, std::int64_t stamp_ns) {
+  std::vector<KeyframeRecord<Pose2>> readings(1);
+  readings[0].stamp_ns = stamp_ns;
+  for (const auto& e : graph.odometry()) {
+    if (e.to <= first || e.to > last) continue;
+    KeyframeRecord<Pose2> next;
+    next.stamp_ns = readings.back().stamp_ns + 20'000'000;
+    next.odometry_pose = readings.back().odometry_pose * e.measurement;
+    next.covariance = OdometryNoiseModel<Pose2>::Grow(
+        readings.back().covariance, next.odometry_pose, e.information);
+    readings.push_back(next);
+  }
+  return readings;
 }
 
 }  // namespace rrr::testing

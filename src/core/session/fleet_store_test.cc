@@ -1,0 +1,227 @@
+#include "rrr/session/fleet_store.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "../testing/chain_worlds.h"
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+
+namespace rrr {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// Two robots of one world with false loops, the second starting at its pose
+// 400 with its odometry at zero there; loops within and between them come
+// once both ends exist.
+class FleetStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rrr_fleet_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    path_ = (dir_ / "fleet.db").string();
+    WorldOptions world = testing::Grid(800, 5);
+    world.false_loops = 40;
+    world.group = 4;
+    graph_ = SimulateWorld(world).graph;
+    readings_ = {testing::Readings(graph_, 0, 399, 0),
+                 testing::Readings(graph_, 400, 799, 0)};
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static FleetOptions Options() {
+    FleetOptions options;
+    options.rrr = testing::ChainWorldOptions();
+    options.restart_jump = 3.0;
+    return options;
+  }
+
+  // Rounds [begin, end): each robot's reading of the round, then the loops
+  // whose later end came in it (both ends fed, by the keyframe ids the
+  // fleet gave them); an update after every tenth round, committed to
+  // `store` (if given) with what it recorded.
+  void Drive(int begin, int end, Fleet<Pose2>* fleet,
+             FleetStore<Pose2>* store) {
+    for (int k = begin; k < end; ++k) {
+      for (int r = 0; r < 2; ++r) {
+        const auto taken = fleet->AddReading(r, readings_[r][k]);
+        ASSERT_TRUE(taken.keyframe);
+        id_[r][k] = taken.id;
+        if (store) store->RecordKeyframe(r, readings_[r][k], taken.new_session);
+      }
+      for (const auto& e : graph_.loops()) {
+        const int ra = e.from < 400 ? 0 : 1, rb = e.to < 400 ? 0 : 1;
+        const int ka = e.from % 400, kb = e.to % 400;
+        if (std::max(ka, kb) != k || id_[ra][ka] < 0 || id_[rb][kb] < 0) {
+          continue;
+        }
+        fleet->AddLoop(ra, id_[ra][ka], rb, id_[rb][kb], e.measurement,
+                       e.information);
+        if (store) {
+          store->RecordCandidate(ra, id_[ra][ka], rb, id_[rb][kb],
+                                 e.measurement, e.information);
+        }
+      }
+      if (k % 10 == 9) {
+        const auto changes = fleet->Update();
+        if (store) store->CommitUpdate(false, changes);
+      }
+    }
+  }
+
+  static std::vector<LoopState> States(const Fleet<Pose2>& fleet) {
+    std::vector<LoopState> states;
+    for (int c = 0; c < fleet.verifier().num_candidates(); ++c) {
+      states.push_back(fleet.verifier().state(c));
+    }
+    return states;
+  }
+
+  fs::path dir_;
+  std::string path_;
+  PoseGraph<Pose2> graph_;
+  std::vector<std::vector<KeyframeRecord<Pose2>>> readings_;
+  // The keyframe id of each robot's reading of each round; -1: not taken.
+  std::vector<std::vector<std::int64_t>> id_ =
+      std::vector<std::vector<std::int64_t>>(
+          2, std::vector<std::int64_t>(400, -1));
+};
+
+TEST_F(FleetStoreTest, AResumeAfterACrashHasEveryCommittedInputAndDecision) {
+  std::vector<LoopState> at_last_commit;
+  int keyframes = 0;
+  {
+    Fleet<Pose2> fleet({"a", "b"}, Options());
+    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
+    Drive(0, 250, &fleet, &store);
+    at_last_commit = States(fleet);
+    keyframes = fleet.verifier().Graph().num_poses();
+    Drive(250, 255, &fleet, &store);  // then the process dies
+    EXPECT_GT(store.num_uncommitted(), 0);
+  }
+  ASSERT_EQ(keyframes, 500);
+  ASSERT_GT(at_last_commit.size(), 10u);
+
+  Fleet<Pose2> fleet({"a", "b"}, Options());
+  FleetStore<Pose2> store(path_, {"a", "b"}, "map");
+  const FleetResumeSummary summary = store.Resume(&fleet);
+  EXPECT_EQ(summary.keyframes, 500);
+  EXPECT_EQ(summary.sessions, 2);
+  EXPECT_EQ(summary.updates, 25);
+  EXPECT_EQ(summary.candidates, static_cast<int>(at_last_commit.size()));
+  EXPECT_EQ(summary.differing_decisions, 0);
+  EXPECT_EQ(States(fleet), at_last_commit);
+
+  // The readings of rounds 250-254 never reached the fleet. Each robot
+  // continues in a new session, joined to the old ones only by loops; its
+  // keyframes count on.
+  for (int r = 0; r < 2; ++r) {
+    std::fill(id_[r].begin() + 250, id_[r].begin() + 255, -1);
+    const auto taken = fleet.AddReading(r, readings_[r][255]);
+    EXPECT_TRUE(taken.new_session);
+    EXPECT_EQ(taken.id, 250);
+    id_[r][255] = taken.id;
+  }
+  // The candidates of the rounds after it, but those naming a keyframe that
+  // was lost.
+  const int before = fleet.verifier().num_candidates();
+  int fed = 0;
+  for (const auto& e : graph_.loops()) {
+    const int ka = e.from % 400, kb = e.to % 400;
+    fed += std::max(ka, kb) >= 256 &&
+           (std::min(ka, kb) < 250 || std::min(ka, kb) > 254);
+  }
+  Drive(256, 400, &fleet, nullptr);
+  fleet.Finish();
+  EXPECT_EQ(fleet.verifier().num_candidates(), before + fed);
+  EXPECT_EQ(fleet.sessions(0).size(), 2u);
+  EXPECT_EQ(fleet.sessions(1).size(), 2u);
+  EXPECT_EQ(fleet.verifier().Graph().odometry().size(), 2u * (249 + 144))
+      << "no odometry across the crash (nor between the robots)";
+}
+
+TEST_F(FleetStoreTest, AResumeOfAFinishedRunDecidesAsTheRun) {
+  std::vector<LoopState> finished;
+  {
+    Fleet<Pose2> fleet({"a", "b"}, Options());
+    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
+    Drive(0, 400, &fleet, &store);
+    store.CommitUpdate(true, fleet.Finish());
+    finished = States(fleet);
+  }
+  size_t accepted = 0, refused = 0;
+  for (const LoopState s : finished) {
+    accepted += s == LoopState::kAccepted;
+    refused += s == LoopState::kRejected;
+  }
+  ASSERT_GT(accepted, 60u);
+  ASSERT_GT(refused, 10u) << "the false loops";
+
+  // The robots in another order, and one more: they are matched by name.
+  Fleet<Pose2> fleet({"c", "b", "a"}, Options());
+  FleetStore<Pose2> store(path_, {"c", "b", "a"}, "map");
+  const FleetResumeSummary summary = store.Resume(&fleet);
+  EXPECT_EQ(summary.differing_decisions, 0);
+  EXPECT_EQ(States(fleet), finished);
+  EXPECT_EQ(fleet.sessions(2).size(), 1u);
+  EXPECT_EQ(fleet.sessions(1).size(), 1u);
+  EXPECT_TRUE(fleet.sessions(0).empty());
+}
+
+TEST_F(FleetStoreTest, AResumeWithoutARecordedRobotSaysWhich) {
+  {
+    Fleet<Pose2> fleet({"a", "b"}, Options());
+    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
+    Drive(0, 20, &fleet, &store);
+  }
+  Fleet<Pose2> fleet({"a"}, Options());
+  FleetStore<Pose2> store(path_, {"a"}, "map");
+  try {
+    store.Resume(&fleet);
+    FAIL() << "resumed without robot b";
+  } catch (const SessionError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path_));
+    EXPECT_THAT(e.what(), HasSubstr("robot 'b' is recorded but not among"));
+  }
+}
+
+TEST_F(FleetStoreTest, AFleetsDatabaseAndOneRobotsAreNotTakenForEachOther) {
+  { FleetStore<Pose2> store(path_, {"a"}, "map"); }
+  EXPECT_TRUE(IsFleetDatabase(path_));
+  const auto fails_with = [](const auto& open, const std::string& problem) {
+    try {
+      open();
+      ADD_FAILURE() << "opened";
+    } catch (const SessionError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(problem));
+    }
+  };
+  fails_with([&] { SessionStore<Pose2>(path_, "map"); },
+             "a fleet's session database");
+  fails_with([&] { ReadSession(path_); }, "a fleet's session database");
+  fails_with([&] { FleetStore<Pose3>(path_, {"a"}, "map"); }, "2D fleet");
+  fails_with([&] { FleetStore<Pose2>(path_, {"a"}, "published"); },
+             "recorded with the map procedure");
+
+  const std::string single = (dir_ / "robot.db").string();
+  { SessionStore<Pose2> store(single, "map"); }
+  EXPECT_FALSE(IsFleetDatabase(single));
+  fails_with([&] { FleetStore<Pose2>(single, {"a"}, "map"); },
+             "not a fleet's session database");
+}
+
+}  // namespace
+}  // namespace rrr

@@ -1,0 +1,110 @@
+"""A fleet's session survives kill -9: rrr_node serving three simulated
+robots records its fleet database, is killed with SIGKILL in the middle,
+and started again on the database (the robots gone with the first run's
+launch). It resumes every committed keyframe and candidate; ~finish then
+decides as rrr verify decides the graph it recorded; and a node started on
+the finished database decides exactly as the finished one.
+"""
+import json
+import os
+import pathlib
+import signal
+import subprocess
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+from ros_processes import free_port, node_pid, ros_env, service, stop, wait_for  # noqa: E402
+
+BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
+LIB = BUILD / "devel" / "lib" / "rrr_slam"
+ROBOTS = "[a, b, c]"
+
+
+def status(env):
+    return service(env, "/rrr_node/get_status", timeout=60)
+
+
+def decisions(env):
+    """Every candidate's (state, test) by number, from ~get_decisions."""
+    out = subprocess.run(["rosservice", "call", "/rrr_node/get_decisions", "{}"], env=env,
+                         capture_output=True, text=True, timeout=120, check=True).stdout
+    states, tests = [], []
+    for line in out.splitlines():
+        line = line.strip()
+        if line.startswith("state:"):
+            states.append(int(line.split(":")[1]))
+        elif line.startswith("test:"):
+            tests.append(line.split(":", 1)[1].strip().strip('"'))
+    assert len(states) == len(tests), out[-2000:]
+    return list(zip(states, tests))
+
+
+def node_alone(env, database, log):
+    """rrr_node for the fleet on `database`, without robots, with the
+    parameters of launch/fleet.launch (the robots on the command line, as
+    rosrun's users give them)."""
+    subprocess.run(["rosparam", "load", ROOT / "config" / "rrr.yaml", "/rrr_node"], env=env,
+                   check=True, timeout=60)
+    return subprocess.Popen(  # the robots as README's two-machine example gives them
+        [LIB / "rrr_node", "__name:=rrr_node", f"_robots:={ROBOTS}", f"_database:={database}",
+         "_restart_jump:=5.0"],
+        env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+
+
+def test_killed_fleet_node_resumes_and_decides_as_rrr_verify(tmp_path):
+    port = free_port()
+    env = ros_env(BUILD, port, tmp_path)
+    log = open(tmp_path / "ros.log", "w")
+    master = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log,
+                              stderr=subprocess.STDOUT, start_new_session=True)
+    database = tmp_path / "fleet.db"
+    launch = node = None
+    try:
+        launch = subprocess.Popen(
+            ["roslaunch", "--wait", "rrr_slam", "fleet.launch", f"database:={database}",
+             f"robots:={ROBOTS}", "poses:=1500", "false_loops:=30", "seed:=2", "rate:=50"],
+            env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+        pid = node_pid(launch)
+        # Kill it once the robots are past their first loops between them.
+        running = wait_for(lambda: (lambda s: s if int(s.get("keyframes", 0)) >= 700 else None)(
+            status(env)), 120, "half of the keyframes")
+        os.kill(pid, signal.SIGKILL)
+        launch.wait(timeout=60)  # the node was required: the robots went with it
+        assert int(running["candidates"]) > 50, running
+
+        node = node_alone(env, database, log)
+        resumed = wait_for(lambda: status(env), 120, "the restarted node")
+        assert resumed["database"] == str(database), resumed
+        keyframes = int(resumed["resumed_keyframes"])
+        # Every committed keyframe (those of the update being run when it
+        # died, at most, are lost) and every committed candidate.
+        assert int(running["keyframes"]) - 60 <= keyframes <= 1500, (running, resumed)
+        assert int(resumed["resumed_candidates"]) >= int(running["candidates"]) - 20, resumed
+        finished = service(env, "/rrr_node/finish", timeout=300)
+        assert int(finished.get("accepted", 0)) > 0, finished
+        graph = tmp_path / "recorded.g2o"
+        saved = service(env, "/rrr_node/save_graph",
+                        f"{{path: '{graph}', with_candidates: true}}", timeout=120)
+        assert saved.get("success") == "True", saved
+        first = decisions(env)
+        stop(node)
+
+        # rrr verify on the graph the resumed node recorded: the same loops.
+        report = tmp_path / "report.json"
+        window = subprocess.run(["rosparam", "get", "/rrr_node/cluster_window"], env=env,
+                                check=True, capture_output=True, text=True).stdout.strip()
+        subprocess.run([LIB / "rrr", "verify", graph, "-w", window, "-o", tmp_path / "verified.g2o", "-r",
+                        report], check=True, capture_output=True)
+        accepted = json.loads(report.read_text())["accepted"]
+        assert len(accepted) == int(finished["accepted"]), (finished, len(accepted))
+
+        # A node started on the finished database decides as the finished one.
+        node = node_alone(env, database, log)
+        again = wait_for(lambda: status(env), 300, "the node started again")
+        assert int(again["resumed_keyframes"]) == keyframes, again
+        assert decisions(env) == first
+    finally:
+        for process in (node, launch, master):
+            stop(process)
+        log.close()
