@@ -104,13 +104,16 @@ TEST(RrrNode, JudgesAGeneratedWorldThroughItsInterface) {
       [&](const auto& m) { newest_keyframe = m->id; });
   auto odom_pub = nh.advertise<nav_msgs::Odometry>("/odom", 10000);
   auto loop_pub = nh.advertise<rrr_slam::LoopClosure>("/loop_closures", 10000);
+  // Its keyframes too: the candidates below wait for them, and one missed
+  // before the connection stands would never come again.
   ASSERT_TRUE(rrr_test::WaitFor(
       [&] {
         return odom_pub.getNumSubscribers() > 0 &&
-               loop_pub.getNumSubscribers() > 0;
+               loop_pub.getNumSubscribers() > 0 &&
+               keyframe_sub.getNumPublishers() > 0;
       },
       30.0))
-      << "rrr_node did not subscribe";
+      << "rrr_node did not subscribe, or its keyframes are not connected";
   ASSERT_TRUE(ros::service::waitForService("/rrr_node/finish", 30000));
 
   std::vector<std::vector<int>> loops_at(g.num_poses());

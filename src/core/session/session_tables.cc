@@ -121,7 +121,9 @@ std::string MetaValue(SqliteDb* db, const std::string& key) {
 // sets `*version`.
 int CheckSchema(SqliteDb* db, int* version) {
   if (IsFleetDatabase(db)) {
-    db->Fail("it is a fleet's session database; resume it with robots set");
+    db->Fail(
+        "it is a fleet's session database, which rrr_node resumes with "
+        "robots set");
   }
   const std::string text = MetaValue(db, "schema_version");
   *version = 0;
