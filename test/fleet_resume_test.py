@@ -2,13 +2,15 @@
 robots records its fleet database, is killed with SIGKILL in the middle,
 and started again on the database (the robots gone with the first run's
 launch). It resumes every committed keyframe and candidate; ~finish then
-decides as rrr verify decides the graph it recorded; and a node started on
-the finished database decides exactly as the finished one.
+decides as rrr verify decides the graph it recorded (with a candidate by
+stamp added after the restart); and a node started on the finished database
+decides exactly as the finished one.
 """
 import json
 import os
 import pathlib
 import signal
+import sqlite3
 import subprocess
 import sys
 
@@ -19,6 +21,10 @@ from ros_processes import free_port, node_pid, ros_env, service, stop, wait_for 
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
 LIB = BUILD / "devel" / "lib" / "rrr_slam"
 ROBOTS = "[a, b, c]"
+
+
+def as_time(ns):
+    return f"{{secs: {ns // 10**9}, nsecs: {ns % 10**9}}}"
 
 
 def status(env):
@@ -81,6 +87,24 @@ def test_killed_fleet_node_resumes_and_decides_as_rrr_verify(tmp_path):
         # died, at most, are lost) and every committed candidate.
         assert int(running["keyframes"]) - 60 <= keyframes <= 1500, (running, resumed)
         assert int(resumed["resumed_candidates"]) >= int(running["candidates"]) - 20, resumed
+        # A candidate by stamp between two recorded keyframes of robots a
+        # and b (their stamps from the database) is taken at once.
+        with sqlite3.connect(database) as db:
+            stamps = [db.execute("SELECT max(stamp_ns) FROM inputs WHERE kind < 2 AND robot = ?",
+                                 (robot,)).fetchone()[0] for robot in (0, 1)]
+        loop = ("{from_robot: a, to_robot: b, loop: {header: {frame_id: base_link}, reference: 1, "
+                f"from_stamp: {as_time(stamps[0])}, to_stamp: {as_time(stamps[1])}, "
+                "relative_pose: {pose: {position: {x: 1.0, y: 0.5, z: 0.0}, "
+                "orientation: {x: 0.0, y: 0.0, z: 0.0, w: 1.0}}, "
+                "covariance: [0.01, 0, 0, 0, 0, 0, 0, 0.01, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, "
+                "0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0.001]}, confidence: -1}}")
+        candidates = int(resumed["candidates"])
+        subprocess.run(["rostopic", "pub", "-1", "/fleet_loop_closures",
+                        "rrr_slam/FleetLoopClosure", loop], env=env, check=True,
+                       capture_output=True, timeout=60)
+        wait_for(lambda: int(status(env).get("candidates", 0)) == candidates + 1, 60,
+                 "the candidate by stamp")
+        assert status(env)["waiting_by_stamp"] == "0"
         finished = service(env, "/rrr_node/finish", timeout=300)
         assert int(finished.get("accepted", 0)) > 0, finished
         graph = tmp_path / "recorded.g2o"

@@ -29,6 +29,7 @@ rrr::FleetOptions FleetOptionsOf(const NodeOptions& options) {
   fleet.use_odometry_covariance = options.use_odometry_covariance;
   fleet.odometry_information = options.odometry_information;
   fleet.odometry_min_motion = options.odometry_min_motion;
+  fleet.stamp_tolerance_ns = std::llround(options.stamp_tolerance * 1e9);
   // An update must not wait for the loops between robots to be judged
   // again over the whole graph.
   fleet.judge_between_in_background = true;
@@ -141,6 +142,7 @@ void FleetNode<Pose>::Resume() {
     status_.resumed_keyframes = summary.keyframes;
     status_.resumed_candidates = summary.candidates;
     status_.updates = summary.updates;
+    CountState();
     changed_ = summary.keyframes > 0;
     ROS_INFO(
         "rrr_node: fleet session %s: resumed %d keyframes in %d sessions, %d "
@@ -371,10 +373,6 @@ template <class Pose>
 void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
                                    const rrr_slam::LoopClosure& loop) {
   const std::string what = "loop closure";
-  if (loop.reference != rrr_slam::LoopClosure::BY_ID) {
-    return Invalid(what, seq,
-                   "a fleet takes candidates by keyframe id (BY_ID) only");
-  }
   Pose z;
   Information information;
   std::string why;
@@ -384,10 +382,20 @@ void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
     return Invalid(what, seq, why);
   }
   try {
-    fleet_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
-    if (store_) {
-      store_->RecordCandidate(from, loop.from_id, to, loop.to_id, z,
-                              information);
+    if (loop.reference == rrr_slam::LoopClosure::BY_ID) {
+      fleet_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
+      if (store_) {
+        store_->RecordCandidate(from, loop.from_id, to, loop.to_id, z,
+                                information);
+      }
+    } else {
+      const auto from_ns = static_cast<std::int64_t>(loop.from_stamp.toNSec());
+      const auto to_ns = static_cast<std::int64_t>(loop.to_stamp.toNSec());
+      fleet_.AddLoopByStamp(from, from_ns, to, to_ns, z, information);
+      if (store_) {
+        store_->RecordCandidateByStamp(from, from_ns, to, to_ns, z,
+                                       information);
+      }
     }
     changed_ = true;
   } catch (const rrr::DegenerateCandidate& e) {
@@ -483,6 +491,15 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
     t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
     tf_broadcaster_.sendTransform(t);
   }
+  CountState();
+  ++status_.updates;
+  status_.inputs_processed += taken_since_update_;
+  taken_since_update_ = 0;
+  timings_.AddUpdate(seconds);
+}
+
+template <class Pose>
+void FleetNode<Pose>::CountState() {
   const auto& v = fleet_.verifier();
   status_.candidates = static_cast<uint32_t>(v.num_candidates());
   status_.accepted =
@@ -492,14 +509,16 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
   status_.pending =
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kPending));
   status_.waiting = static_cast<uint32_t>(fleet_.num_waiting_for_robots());
+  status_.waiting_by_stamp =
+      static_cast<uint32_t>(fleet_.num_waiting_by_stamp());
+  // Candidates by stamp refused once their keyframes came: none near.
+  status_.skipped_unknown_poses += static_cast<uint64_t>(
+      fleet_.refused_by_stamp() - refused_by_stamp_counted_);
+  refused_by_stamp_counted_ = fleet_.refused_by_stamp();
   status_.keyframes = 0;
   for (int c = 0; c < v.num_chains(); ++c) {
     status_.keyframes += static_cast<uint32_t>(v.chain(c).graph().num_poses());
   }
-  ++status_.updates;
-  status_.inputs_processed += taken_since_update_;
-  taken_since_update_ = 0;
-  timings_.AddUpdate(seconds);
 }
 
 template class FleetNode<rrr::Pose2>;

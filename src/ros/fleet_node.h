@@ -32,13 +32,13 @@ namespace rrr_ros {
 
 // The adapter between ROS and an rrr::Fleet (README, "A fleet of robots").
 // Robot r's odometry comes on `<r>/odom`; candidates on
-// `fleet_loop_closures` name robot and keyframe id at both ends (those on
-// `loop_closures`, as a single robot's front-end sends them, are taken as
-// within the first robot). Callbacks only queue their input; one worker (the
-// thread that calls Run()) owns the fleet, takes the queue in batches and
-// publishes: `~<r>/keyframes`, `~<r>/path` (robot r's sessions in the map of
-// its current one), `~graph` (markers, a colour per robot), `~decisions`
-// (the candidates new or changed at each update), and on tf
+// `fleet_loop_closures` name robot and keyframe (by id or stamp) at both
+// ends (those on `loop_closures`, as a single robot's front-end sends them,
+// are taken as within the first robot). Callbacks only queue their input; one
+// worker (the thread that calls Run()) owns the fleet, takes the queue in
+// batches and publishes: `~<r>/keyframes`, `~<r>/path` (robot r's sessions in
+// the map of its current one), `~graph` (markers, a colour per robot),
+// `~decisions` (the candidates new or changed at each update), and on tf
 // `<map frame> → <r>/<odom_frame>` for every robot with a keyframe. The map
 // that holds the first robot's first session is `map_frame`; a map that
 // does not is named after the robot of its oldest session, `<r>/map`, or
@@ -90,6 +90,9 @@ class FleetNode {
                     const rrr_slam::LoopClosure& loop);
   // Counts an invalid message and warns (throttled), naming it.
   void Invalid(const std::string& what, uint32_t seq, const std::string& why);
+  // Sets status_'s counts of keyframes, candidates and their states from the
+  // fleet; under state_mutex_ once the worker runs.
+  void CountState();
   // Runs the fleet's update (or Finish) and publishes.
   void UpdateAndPublish(bool finish);
   // The candidates `carried` (ascending) with their state and reason, the
@@ -119,7 +122,8 @@ class FleetNode {
   bool changed_ = false;  // keyframes or decisions since the last publishing
   ros::WallTime last_published_;
   uint64_t taken_since_update_ = 0;
-  int candidates_published_ = 0;  // on ~decisions, as new
+  int candidates_published_ = 0;      // on ~decisions, as new
+  int refused_by_stamp_counted_ = 0;  // in status_.skipped_unknown_poses
 
   // Shared with the ROS threads under `state_mutex_`.
   std::mutex state_mutex_;

@@ -11,6 +11,7 @@
 
 #include "rrr/graph/keyframe_track.h"
 #include "rrr/graph/odometry_noise.h"
+#include "rrr/graph/stamped_candidates.h"
 #include "rrr/rrr/chains/chains_verifier.h"
 #include "rrr/rrr/options.h"
 
@@ -36,6 +37,8 @@ struct FleetOptions {
   bool use_odometry_covariance = true;
   std::vector<double> odometry_information;
   double odometry_min_motion = 0.05;
+  // A candidate's stamp names a robot's keyframe at most this far from it.
+  std::int64_t stamp_tolerance_ns = 100'000'000;
   // Rules 1–3 between chains on a thread of their own (ChainsVerifier).
   bool judge_between_in_background = false;
 };
@@ -96,6 +99,27 @@ class Fleet {
   // that does not exist.
   int AddLoop(int robot_a, std::int64_t id_a, int robot_b, std::int64_t id_b,
               const Pose& z, const Information& information);
+  // The id of robot `robot`'s keyframe nearest to `stamp_ns` (within
+  // stamp_tolerance_ns) in the newest of its sessions that has one;
+  // KeyframeStamps::kNotYet if the stamp is after the newest keyframe of its
+  // current session (or it has none yet): a keyframe near it may still
+  // come; else KeyframeStamps::kNone. Throws std::out_of_range for a robot
+  // that does not exist.
+  std::int64_t KeyframeAt(int robot, std::int64_t stamp_ns) const;
+  // Adds the candidate z ≈ x_a⁻¹ · x_b between robot `robot_a`'s keyframe
+  // at `stamp_a` and robot `robot_b`'s at `stamp_b` (ns, see KeyframeAt)
+  // and returns its number, or -1 while a keyframe near a stamp may still
+  // come: it waits, and is added (or refused, counted in refused_by_stamp())
+  // with the keyframe that settles it. Throws DegenerateCandidate
+  // (kUnknownPose) if a stamp has no keyframe near it, (kWaitingFull) if
+  // rrr.max_waiting candidates wait by stamp already, and as AddLoop.
+  int AddLoopByStamp(int robot_a, std::int64_t stamp_a, int robot_b,
+                     std::int64_t stamp_b, const Pose& z,
+                     const Information& information);
+  int num_waiting_by_stamp() const { return waiting_by_stamp_.size(); }
+  // Candidates that waited by stamp and were refused once their keyframes
+  // settled (no keyframe near a stamp, or degenerate).
+  int refused_by_stamp() const { return refused_by_stamp_; }
   // Candidates waiting for a robot's first keyframe.
   int num_waiting_for_robots() const {
     return static_cast<int>(waiting_for_robots_.size());
@@ -165,6 +189,15 @@ class Fleet {
   };
   std::vector<WaitingLoop> waiting_for_robots_;  // in arrival order
   int refused_waiting_ = 0;
+  struct ByStamp {
+    int robot_a, robot_b;
+    Pose z;
+    Information information;
+  };
+  // Adds the candidates named by stamp whose keyframes are settled.
+  void AddSettledByStamp();
+  StampedCandidates<ByStamp> waiting_by_stamp_;
+  int refused_by_stamp_ = 0;
 };
 
 }  // namespace rrr

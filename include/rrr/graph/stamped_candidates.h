@@ -36,9 +36,20 @@ class StampedCandidates {
   // `end` "from" or "to", the first stamp without one. The others stay.
   template <class Found, class Missing>
   void Resolve(const KeyframeStamps& stamps, Found found, Missing missing) {
+    ResolveWith(
+        [&](std::int64_t stamp_ns, const char*, const T&) {
+          return static_cast<std::int64_t>(stamps.Find(stamp_ns));
+        },
+        found, missing);
+  }
+  // As Resolve(), with `find`(stamp_ns, end, candidate) the keyframe of each
+  // end ("from", "to"), or KeyframeStamps::kNotYet or kNone.
+  template <class Find, class Found, class Missing>
+  void ResolveWith(Find find, Found found, Missing missing) {
     auto keep = held_.begin();
     for (auto& h : held_) {
-      const int from = stamps.Find(h.from_ns), to = stamps.Find(h.to_ns);
+      const std::int64_t from = find(h.from_ns, "from", h.candidate);
+      const std::int64_t to = find(h.to_ns, "to", h.candidate);
       if (from == KeyframeStamps::kNotYet || to == KeyframeStamps::kNotYet) {
         if (&*keep != &h) *keep = std::move(h);  // not onto itself
         ++keep;

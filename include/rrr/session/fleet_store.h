@@ -70,6 +70,11 @@ class FleetStore {
   void RecordCandidate(int robot_a, std::int64_t id_a, int robot_b,
                        std::int64_t id_b, const Pose& z,
                        const Information& information);
+  // Records a candidate named by stamps that the fleet took (numbered, or
+  // waiting; Fleet::AddLoopByStamp).
+  void RecordCandidateByStamp(int robot_a, std::int64_t stamp_a, int robot_b,
+                              std::int64_t stamp_b, const Pose& z,
+                              const Information& information);
   // Writes what was recorded since the last commit and the update that
   // followed it (`finish`: a Finish()) with its changes, in one transaction.
   // Throws SessionError if the database cannot be written.

@@ -45,7 +45,8 @@ Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
       sessions_(robots_.size()),
       next_id_(robots_.size(), 0),
       restart_(robots_.size(), false),
-      last_reading_(robots_.size()) {
+      last_reading_(robots_.size()),
+      waiting_by_stamp_(options.rrr.max_waiting) {
   if (robots_.empty()) throw std::invalid_argument("a fleet needs a robot");
   for (size_t r = 0; r < robots_.size(); ++r) {
     if (robots_[r].empty()) {
@@ -58,6 +59,9 @@ Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
   }
   if (options.restart_jump < 0.0) {
     throw std::invalid_argument("restart_jump must not be negative");
+  }
+  if (options.stamp_tolerance_ns < 0) {
+    throw std::invalid_argument("stamp_tolerance_ns must not be negative");
   }
 }
 
@@ -114,13 +118,15 @@ typename Fleet<Pose>::Taken Fleet<Pose>::AddKeyframe(
         {taken.chain,
          taken.id,
          KeyframeTrack<Pose>(options_.keyframe_translation,
-                             options_.keyframe_rotation, 0),
+                             options_.keyframe_rotation,
+                             options_.stamp_tolerance_ns),
          {keyframe.odometry_pose}});
     sessions_by_chain_.back().track.Append(keyframe);
     robot_of_chain_.push_back(robot);
     sessions_[robot].push_back(taken.chain);
     restart_[robot] = false;
     if (sessions_[robot].size() == 1) AddWaitingLoops();
+    AddSettledByStamp();
     return taken;
   }
   Session& session = sessions_by_chain_[sessions_[robot].back()];
@@ -133,7 +139,66 @@ typename Fleet<Pose>::Taken Fleet<Pose>::AddKeyframe(
   session.track.Append(keyframe);
   session.map.push_back(session.map.back() * motion);
   taken.chain = session.chain;
+  AddSettledByStamp();
   return taken;
+}
+
+template <class Pose>
+std::int64_t Fleet<Pose>::KeyframeAt(int robot, std::int64_t stamp_ns) const {
+  const std::vector<int>& chains = sessions_.at(robot);
+  if (chains.empty()) return KeyframeStamps::kNotYet;
+  for (auto c = chains.rbegin(); c != chains.rend(); ++c) {
+    const Session& session = sessions_by_chain_[*c];
+    const int k = session.track.stamps().Find(stamp_ns);
+    if (k >= 0) return session.first_id + k;
+    if (k == KeyframeStamps::kNotYet && c == chains.rbegin()) return k;
+  }
+  return KeyframeStamps::kNone;
+}
+
+template <class Pose>
+int Fleet<Pose>::AddLoopByStamp(int robot_a, std::int64_t stamp_a, int robot_b,
+                                std::int64_t stamp_b, const Pose& z,
+                                const Information& information) {
+  const std::int64_t a = KeyframeAt(robot_a, stamp_a);
+  const std::int64_t b = KeyframeAt(robot_b, stamp_b);
+  if (a == KeyframeStamps::kNotYet || b == KeyframeStamps::kNotYet) {
+    if (waiting_by_stamp_.full()) {
+      throw DegenerateCandidate(
+          CandidateDefect::kWaitingFull,
+          std::to_string(waiting_by_stamp_.size()) +
+              " candidates wait for keyframes by stamp already");
+    }
+    waiting_by_stamp_.Hold(stamp_a, stamp_b,
+                           {robot_a, robot_b, z, information});
+    return -1;
+  }
+  if (a < 0 || b < 0) {
+    const int robot = a < 0 ? robot_a : robot_b;
+    throw DegenerateCandidate(
+        CandidateDefect::kUnknownPose,
+        "robot '" + robots_[robot] + "' has no keyframe within " +
+            std::to_string(options_.stamp_tolerance_ns * 1e-9) + " s of the " +
+            (a < 0 ? "from" : "to") + " stamp");
+  }
+  return AddLoop(robot_a, a, robot_b, b, z, information);
+}
+
+template <class Pose>
+void Fleet<Pose>::AddSettledByStamp() {
+  if (waiting_by_stamp_.size() == 0) return;
+  waiting_by_stamp_.ResolveWith(
+      [this](std::int64_t stamp_ns, const char* end, const ByStamp& w) {
+        return KeyframeAt(end[0] == 'f' ? w.robot_a : w.robot_b, stamp_ns);
+      },
+      [this](std::int64_t a, std::int64_t b, const ByStamp& w) {
+        try {
+          AddLoop(w.robot_a, a, w.robot_b, b, w.z, w.information);
+        } catch (const DegenerateCandidate&) {
+          ++refused_by_stamp_;
+        }
+      },
+      [this](const char*, const ByStamp&) { ++refused_by_stamp_; });
 }
 
 template <class Pose>

@@ -9,6 +9,7 @@
 
 #include "../testing/chain_worlds.h"
 #include "rrr/geometry/pose2.h"
+#include "rrr/graph/candidate_defect.h"
 #include "rrr/io/g2o.h"
 #include "rrr/solver/pose_graph_solver.h"
 
@@ -177,6 +178,60 @@ TEST(Fleet, RobotsAreNamedOnceAndCandidatesWaitForTheirRobots) {
   EXPECT_THROW(fleet.AddLoop(0, 0, 3, 0, Pose2(), information),
                std::out_of_range);
   EXPECT_THROW(fleet.AddReading(2, {}), std::out_of_range);
+}
+
+TEST(Fleet, CandidatesByStampNameTheNearestKeyframeOnceItIsThere) {
+  FleetOptions options = Options();
+  options.stamp_tolerance_ns = 5'000'000;  // readings come 20 ms apart
+  Fleet<Pose2> fleet({"a", "b"}, options);
+  const SimulatedWorld world = SimulateWorld(Grid(100, 3));
+  const auto a = Readings(world.graph, 0, 29, 1'000'000'000);
+  const auto b = Readings(world.graph, 30, 59, 1'000'000'000);
+  const Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
+  for (int k = 0; k < 10; ++k) fleet.AddReading(0, a[k]);
+  // Robot b has no keyframe yet; a's end is 3 ms from its keyframe 5.
+  EXPECT_EQ(fleet.AddLoopByStamp(0, a[5].stamp_ns + 3'000'000, 1, b[3].stamp_ns,
+                                 Pose2(), information),
+            -1);
+  // b's end falls between two of its keyframes, 10 ms from each.
+  EXPECT_EQ(
+      fleet.AddLoopByStamp(0, a[2].stamp_ns, 1, b[4].stamp_ns + 10'000'000,
+                           Pose2(), information),
+      -1);
+  EXPECT_EQ(fleet.num_waiting_by_stamp(), 2);
+  for (int k = 0; k < 3; ++k) fleet.AddReading(1, b[k]);
+  EXPECT_EQ(fleet.num_waiting_by_stamp(), 2) << "b's keyframe 3 not there";
+  fleet.AddReading(1, b[3]);
+  ASSERT_EQ(fleet.verifier().num_candidates(), 1);
+  EXPECT_EQ(fleet.verifier().from(0).id, 5);
+  EXPECT_EQ(fleet.verifier().to(0).id, 3);
+  EXPECT_EQ(fleet.robot_of_chain(fleet.verifier().to(0).chain), 1);
+  fleet.AddReading(1, b[4]);
+  fleet.AddReading(1, b[5]);
+  EXPECT_EQ(fleet.num_waiting_by_stamp(), 0);
+  EXPECT_EQ(fleet.refused_by_stamp(), 1) << "no keyframe within 5 ms";
+  EXPECT_EQ(fleet.verifier().num_candidates(), 1);
+  // Settled at once; a stamp before a's first keyframe names none.
+  EXPECT_EQ(fleet.AddLoopByStamp(0, a[7].stamp_ns, 1, b[1].stamp_ns, Pose2(),
+                                 information),
+            1);
+  try {
+    fleet.AddLoopByStamp(0, a[0].stamp_ns - 1'000'000'000, 1, b[1].stamp_ns,
+                         Pose2(), information);
+    ADD_FAILURE() << "taken";
+  } catch (const DegenerateCandidate& e) {
+    EXPECT_EQ(e.defect(), CandidateDefect::kUnknownPose);
+  }
+  // After a restart whose stamps start over, a stamp of the first session
+  // still names its keyframe there.
+  fleet.StartSession(0);
+  const auto again = Readings(world.graph, 10, 29, a[5].stamp_ns);
+  for (const auto& reading : again) fleet.AddReading(0, reading);
+  ASSERT_EQ(fleet.sessions(0).size(), 2u);
+  EXPECT_EQ(fleet.KeyframeAt(0, a[1].stamp_ns), 1);
+  EXPECT_EQ(fleet.KeyframeAt(0, a[6].stamp_ns), 11) << "in both: the newest";
+  EXPECT_EQ(fleet.KeyframeAt(0, again.back().stamp_ns + 1'000'000'000),
+            KeyframeStamps::kNotYet);
 }
 
 }  // namespace

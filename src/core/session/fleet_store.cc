@@ -15,9 +15,10 @@ namespace {
 
 // What a row of a fleet's inputs table is.
 enum FleetInputKind : std::int64_t {
-  kSessionStart = 0,  // a keyframe that started a session
-  kNextKeyframe = 1,  // a keyframe of the robot's current session
-  kCandidate = 2,
+  kSessionStart = 0,      // a keyframe that started a session
+  kNextKeyframe = 1,      // a keyframe of the robot's current session
+  kCandidate = 2,         // by keyframe ids
+  kCandidateByStamp = 3,  // by stamps (ns), in the columns of the ids
 };
 
 constexpr const char* kFleetSchema = R"sql(
@@ -25,13 +26,13 @@ CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE robots(robot INTEGER PRIMARY KEY, name TEXT NOT NULL UNIQUE);
 CREATE TABLE inputs(
   seq INTEGER PRIMARY KEY,       -- arrival order
-  kind INTEGER NOT NULL,         -- 0 session start, 1 keyframe, 2 candidate
+  kind INTEGER NOT NULL,  -- 0 session start, 1 keyframe, 2 candidate, 3 by stamp
   robot INTEGER NOT NULL,        -- keyframes; candidates: the from end's
   stamp_ns INTEGER,              -- keyframes
   odometry_pose BLOB,            -- keyframes: pose in the robot's odometry
   covariance BLOB,               -- keyframes: its 6 x 6 covariance (*)
   to_robot INTEGER,              -- candidates
-  from_id INTEGER, to_id INTEGER,  -- candidates: keyframes of the robots
+  from_id INTEGER, to_id INTEGER,  -- candidates: keyframe ids (or stamps)
   measurement BLOB, information BLOB);  -- candidates (*)
 -- (*) the upper triangle, row by row, if symmetric, else every entry.
 )sql";
@@ -153,11 +154,14 @@ template <class Pose>
 void FleetStore<Pose>::RecordKeyframe(int robot,
                                       const KeyframeRecord<Pose>& keyframe,
                                       bool new_session) {
-  typename Impl::Pending row;
-  row.kind = new_session ? kSessionStart : kNextKeyframe;
-  row.robot = impl_->stored_robot.at(robot);
-  row.keyframe = keyframe;
-  impl_->pending.push_back(std::move(row));
+  impl_->pending.push_back({new_session ? kSessionStart : kNextKeyframe,
+                            impl_->stored_robot.at(robot),
+                            keyframe,
+                            0,
+                            0,
+                            0,
+                            {},
+                            {}});
 }
 
 template <class Pose>
@@ -165,15 +169,21 @@ void FleetStore<Pose>::RecordCandidate(int robot_a, std::int64_t id_a,
                                        int robot_b, std::int64_t id_b,
                                        const Pose& z,
                                        const Information& information) {
-  typename Impl::Pending row;
-  row.kind = kCandidate;
-  row.robot = impl_->stored_robot.at(robot_a);
-  row.to_robot = impl_->stored_robot.at(robot_b);
-  row.from_id = id_a;
-  row.to_id = id_b;
-  row.measurement = Encode(z);
-  row.information = Encode(information);
-  impl_->pending.push_back(std::move(row));
+  impl_->pending.push_back({kCandidate, impl_->stored_robot.at(robot_a),
+                            KeyframeRecord<Pose>{},
+                            impl_->stored_robot.at(robot_b), id_a, id_b,
+                            Encode(z), Encode(information)});
+}
+
+template <class Pose>
+void FleetStore<Pose>::RecordCandidateByStamp(int robot_a, std::int64_t stamp_a,
+                                              int robot_b, std::int64_t stamp_b,
+                                              const Pose& z,
+                                              const Information& information) {
+  impl_->pending.push_back({kCandidateByStamp, impl_->stored_robot.at(robot_a),
+                            KeyframeRecord<Pose>{},
+                            impl_->stored_robot.at(robot_b), stamp_a, stamp_b,
+                            Encode(z), Encode(information)});
 }
 
 template <class Pose>
@@ -189,7 +199,7 @@ void FleetStore<Pose>::CommitUpdate(
       insert.Bind(1, seq++);
       insert.Bind(2, static_cast<std::int64_t>(row.kind));
       insert.Bind(3, row.robot);
-      if (row.kind == kCandidate) {
+      if (row.kind == kCandidate || row.kind == kCandidateByStamp) {
         insert.Bind(7, row.to_robot);
         insert.Bind(8, row.from_id);
         insert.Bind(9, row.to_id);
@@ -264,12 +274,17 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
     const std::int64_t kind = query.Int(1);
     const int from = robot(query.Int(2), at);
     try {
-      if (kind == kCandidate) {
+      if (kind == kCandidate || kind == kCandidateByStamp) {
         Pose z;
         Information information;
         DecodeMeasurement(s.db, query, 9, 10, at, &z, &information);
-        fleet->AddLoop(from, query.Int(7), robot(query.Int(6), at),
-                       query.Int(8), z, information);
+        const int to = robot(query.Int(6), at);
+        if (kind == kCandidate) {
+          fleet->AddLoop(from, query.Int(7), to, query.Int(8), z, information);
+        } else {
+          fleet->AddLoopByStamp(from, query.Int(7), to, query.Int(8), z,
+                                information);
+        }
         ++summary.candidates;
       } else if (kind == kSessionStart || kind == kNextKeyframe) {
         KeyframeRecord<Pose> keyframe;

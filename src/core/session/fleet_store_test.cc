@@ -159,6 +159,16 @@ TEST_F(FleetStoreTest, AResumeOfAFinishedRunDecidesAsTheRun) {
     Fleet<Pose2> fleet({"a", "b"}, Options());
     FleetStore<Pose2> store(path_, {"a", "b"}, "map");
     Drive(0, 400, &fleet, &store);
+    // One candidate more, by the stamps of its keyframes (a's 390 and b's
+    // 395, as a loop of the world would be measured).
+    const Pose2 z = graph_.estimates()[390].between(graph_.estimates()[795]);
+    const Eigen::Matrix3d information = graph_.loops()[0].information;
+    const int next = fleet.verifier().num_candidates();
+    EXPECT_EQ(fleet.AddLoopByStamp(0, readings_[0][390].stamp_ns, 1,
+                                   readings_[1][395].stamp_ns, z, information),
+              next);
+    store.RecordCandidateByStamp(0, readings_[0][390].stamp_ns, 1,
+                                 readings_[1][395].stamp_ns, z, information);
     store.CommitUpdate(true, fleet.Finish());
     finished = States(fleet);
   }
