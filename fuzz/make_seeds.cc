@@ -1,7 +1,8 @@
 // Writes the seed corpora of the fuzz targets into DIR/<target>/: a small
 // generated world as g2o text, session databases recorded from it (2D and
-// 3D), and serialized LoopClosure and Odometry messages. (scripts/fuzz.sh
-// adds the first lines of the shared datasets when they are there.)
+// 3D, and a fleet of two robots), and serialized LoopClosure and Odometry
+// messages. (scripts/fuzz.sh adds the first lines of the shared datasets when
+// they are there.)
 //
 //   make_seeds DIR
 #include <nav_msgs/Odometry.h>
@@ -18,6 +19,7 @@
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/map/map_verifier.h"
+#include "rrr/session/fleet_store.h"
 #include "rrr/session/session_store.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/LoopClosure.h"
@@ -79,6 +81,43 @@ void WriteSession(const rrr::PoseGraph<Pose>& graph, int update_every,
   store.CommitUpdate(true, verifier.Finish());
 }
 
+// Records `graph` as rrr_node records a fleet: its first and second halves
+// robots a and b side by side, each loop once both its keyframes exist (one
+// by stamp), an update every `update_every` rounds.
+void WriteFleetSession(const rrr::PoseGraph<rrr::Pose2>& graph,
+                       int update_every, const fs::path& path) {
+  fs::remove(path);
+  rrr::Fleet<rrr::Pose2> fleet({"a", "b"}, rrr::FleetOptions{});
+  rrr::FleetStore<rrr::Pose2> store(path.string(), {"a", "b"}, "map");
+  const int half = graph.num_poses() / 2;
+  for (int k = 0; k < half; ++k) {
+    for (int r = 0; r < 2; ++r) {
+      rrr::KeyframeRecord<rrr::Pose2> keyframe;
+      keyframe.stamp_ns = 1000000000LL * k;
+      keyframe.odometry_pose =
+          graph.estimates()[r * half].between(graph.estimates()[r * half + k]);
+      const auto taken = fleet.AddReading(r, keyframe);
+      store.RecordKeyframe(r, keyframe, taken.new_session);
+    }
+    for (const auto& l : graph.loops()) {
+      const int ra = l.from / half, rb = l.to / half;
+      const int ka = l.from % half, kb = l.to % half;
+      if (ra > 1 || rb > 1 || std::max(ka, kb) != k) continue;
+      if (ka == 0) {
+        fleet.AddLoopByStamp(ra, 0, rb, 1000000000LL * kb, l.measurement,
+                             l.information);
+        store.RecordCandidateByStamp(ra, 0, rb, 1000000000LL * kb,
+                                     l.measurement, l.information);
+      } else {
+        fleet.AddLoop(ra, ka, rb, kb, l.measurement, l.information);
+        store.RecordCandidate(ra, ka, rb, kb, l.measurement, l.information);
+      }
+    }
+    if ((k + 1) % update_every == 0) store.CommitUpdate(false, fleet.Update());
+  }
+  store.CommitUpdate(true, fleet.Finish());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -105,6 +144,7 @@ int main(int argc, char** argv) {
 
   WriteSession(g, 10, dir / "session_reader" / "world2d.db");
   WriteSession(g3, 40, dir / "session_reader" / "world3d.db");
+  WriteFleetSession(g, 10, dir / "session_reader" / "fleet2d.db");
 
   rrr_slam::LoopClosure loop;
   loop.header.frame_id = "base_link";
