@@ -1,6 +1,7 @@
 // Four simulated robots and rrr_node serving them as a fleet
 // (test/fleet.test): the test builds the same world from the robots'
 // parameters to know which candidates are false.
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
@@ -160,6 +161,14 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
   }
   const auto status = rrr_test::Status();
   EXPECT_EQ(status.invalid_messages, 0u);
+  // /diagnostics: the node's status, OK (nothing invalid, nothing refused).
+  diagnostic_msgs::DiagnosticArray::ConstPtr diagnostics;
+  auto diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const auto& m) { diagnostics = m; });
+  ASSERT_TRUE(rrr_test::WaitFor([&] { return diagnostics != nullptr; }, 10.0));
+  ASSERT_EQ(diagnostics->status.size(), 1u);
+  EXPECT_EQ(diagnostics->status[0].level, diagnostic_msgs::DiagnosticStatus::OK)
+      << diagnostics->status[0].message;
   // The update times, in the test's JUnit file.
   RecordProperty("update_p50_s", std::to_string(status.update_seconds_p50));
   RecordProperty("update_p99_s", std::to_string(status.update_seconds_p99));

@@ -1,5 +1,6 @@
 #include "fleet_node.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Path.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -86,6 +87,10 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
       private_nh_.advertiseService("get_status", &FleetNode::OnGetStatus, this);
   tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period),
                               &FleetNode::OnTfTimer, this);
+  diagnostics_pub_ =
+      nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  diagnostics_timer_ =
+      nh_.createTimer(ros::Duration(1.0), &FleetNode::OnDiagnosticsTimer, this);
   for (int r = 0; r < robots; ++r) {
     odom_subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(
         options_.robots[r] + "/odom", kQueueSize,
@@ -223,6 +228,14 @@ bool FleetNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
         &res);
   });
   return true;
+}
+
+template <class Pose>
+void FleetNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
+  rrr_slam::GetStatus::Request req;
+  rrr_slam::GetStatus::Response status;
+  OnGetStatus(req, status);
+  diagnostics_pub_.publish(DiagnosticsOf(status, ros::this_node::getName()));
 }
 
 template <class Pose>

@@ -38,7 +38,8 @@ namespace rrr_ros {
 // worker (the thread that calls Run()) owns the fleet, takes the queue in
 // batches and publishes: `~<r>/keyframes`, `~<r>/path` (robot r's sessions in
 // the map of its current one), `~graph` (markers, a colour per robot),
-// `~decisions` (the candidates new or changed at each update), and on tf
+// `~decisions` (the candidates new or changed at each update), `/diagnostics`
+// (every second, as one robot's node does), and on tf
 // `<map frame> → <r>/<odom_frame>` for every robot with a keyframe. The map
 // that holds the first robot's first session is `map_frame`; a map that
 // does not is named after the robot of its oldest session, `<r>/map`, or
@@ -77,6 +78,7 @@ class FleetNode {
   bool OnGetDecisions(rrr_slam::GetDecisions::Request& req,
                       rrr_slam::GetDecisions::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
+  void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
   // Opens the session database and replays it into the fleet; throws
   // std::invalid_argument naming the database if it cannot.
@@ -111,7 +113,8 @@ class FleetNode {
   std::vector<ros::Publisher> keyframe_pubs_, path_pubs_;
   ros::Publisher marker_pub_, decision_pub_;
   ros::ServiceServer finish_srv_, save_srv_, status_srv_, decisions_srv_;
-  ros::Timer tf_timer_;
+  ros::Publisher diagnostics_pub_;
+  ros::Timer tf_timer_, diagnostics_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   Worker worker_;
   std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
