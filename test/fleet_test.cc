@@ -21,6 +21,7 @@
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/chains/verify_chains.h"
 #include "rrr/sim/simulated_world.h"
+#include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/GetDecisions.h"
 #include "rrr_slam/SaveGraph.h"
 
@@ -153,6 +154,29 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
     true_accepted += accepted && !is_false;
   }
   EXPECT_GE(true_accepted, 0.85 * (decisions.size() - false_ends.size()));
+  // ~get_accepted_graph: every robot's keyframes (one map), named by robot
+  // and keyframe id, with the accepted loops.
+  rrr_slam::GetAcceptedGraph accepted_graph;
+  ASSERT_TRUE(
+      ros::service::call("/rrr_node/get_accepted_graph", accepted_graph));
+  const rrr_slam::AcceptedGraph& ag = accepted_graph.response.graph;
+  EXPECT_EQ(ag.header.frame_id, "map");
+  ASSERT_EQ(static_cast<int>(ag.ids.size()), graph.num_poses());
+  ASSERT_EQ(ag.robots.size(), ag.ids.size());
+  ASSERT_EQ(ag.keyframe_ids.size(), ag.ids.size());
+  EXPECT_EQ(ag.odometry.size(), graph.odometry().size());
+  size_t accepted_loops = 0;
+  for (const auto& [ends, accepted] : decisions) accepted_loops += accepted;
+  EXPECT_EQ(ag.loops.size(), accepted_loops);
+  std::set<std::string> named;
+  for (size_t k = 0; k < ag.ids.size(); ++k) {
+    named.insert(ag.robots[k] + ":" + std::to_string(ag.keyframe_ids[k]));
+  }
+  EXPECT_EQ(named.size(), ag.ids.size()) << "each keyframe named once";
+  for (const auto& [ends, accepted] : decisions) {
+    const std::string from = ends.substr(0, ends.find(' '));
+    EXPECT_EQ(named.count(from), 1u) << from;
+  }
   // Every robot on tf in the map frame.
   for (const std::string& robot : robots) {
     EXPECT_TRUE(tf.canTransform("map", robot + "/odom", ros::Time(0),

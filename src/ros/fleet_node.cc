@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <numeric>
 
 #include "graph_messages.h"
 #include "msg_conversion.h"
@@ -75,6 +76,10 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
   }
   marker_pub_ =
       private_nh_.advertise<visualization_msgs::MarkerArray>("graph", 1, true);
+  graph_pub_ =
+      private_nh_.advertise<rrr_slam::AcceptedGraph>("accepted_graph", 1, true);
+  graph_srv_ = private_nh_.advertiseService(
+      "get_accepted_graph", &FleetNode::OnGetAcceptedGraph, this);
   decision_pub_ =
       private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
   decisions_srv_ = private_nh_.advertiseService(
@@ -227,6 +232,14 @@ bool FleetNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
         },
         &res);
   });
+  return true;
+}
+
+template <class Pose>
+bool FleetNode<Pose>::OnGetAcceptedGraph(
+    rrr_slam::GetAcceptedGraph::Request&,
+    rrr_slam::GetAcceptedGraph::Response& res) {
+  worker_.RunOnWorker([&] { res.graph = AcceptedGraph(); });
   return true;
 }
 
@@ -488,6 +501,11 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
     }
     for (auto& [key, marker] : loops) markers.markers.push_back(marker);
     marker_pub_.publish(markers);
+    if (finish ||
+        (now - last_graph_published_).toSec() >= options_.graph_period) {
+      last_graph_published_ = now;
+      graph_pub_.publish(AcceptedGraph());
+    }
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -509,6 +527,22 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
   status_.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
   timings_.AddUpdate(seconds);
+}
+
+template <class Pose>
+rrr_slam::AcceptedGraph FleetNode<Pose>::AcceptedGraph() const {
+  const auto& v = fleet_.verifier();
+  const rrr::FleetGraph<Pose> accepted =
+      fleet_.AcceptedGraph(v.num_chains() > 0 ? v.map_of_chain(0) : -1);
+  std::vector<int> loops(accepted.graph.loops().size());
+  std::iota(loops.begin(), loops.end(), 0);
+  rrr_slam::AcceptedGraph msg = AcceptedGraphMsg(
+      accepted.graph, accepted.graph.estimates(), loops, options_.map_frame);
+  for (size_t k = 0; k < accepted.robot.size(); ++k) {
+    msg.robots.push_back(options_.robots[accepted.robot[k]]);
+    msg.keyframe_ids.push_back(accepted.keyframe[k]);
+  }
+  return msg;
 }
 
 template <class Pose>

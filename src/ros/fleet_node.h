@@ -19,9 +19,11 @@
 #include "node_worker.h"
 #include "rrr/fleet/fleet.h"
 #include "rrr/session/fleet_store.h"
+#include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/FleetLoopClosure.h"
+#include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/GetDecisions.h"
 #include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
@@ -38,7 +40,8 @@ namespace rrr_ros {
 // worker (the thread that calls Run()) owns the fleet, takes the queue in
 // batches and publishes: `~<r>/keyframes`, `~<r>/path` (robot r's sessions in
 // the map of its current one), `~graph` (markers, a colour per robot),
-// `~decisions` (the candidates new or changed at each update), `/diagnostics`
+// `~decisions` (the candidates new or changed at each update),
+// `~accepted_graph` (the map in `map_frame`), `/diagnostics`
 // (every second, as one robot's node does), and on tf
 // `<map frame> → <r>/<odom_frame>` for every robot with a keyframe. The map
 // that holds the first robot's first session is `map_frame`; a map that
@@ -77,6 +80,8 @@ class FleetNode {
                    rrr_slam::GetStatus::Response& res);
   bool OnGetDecisions(rrr_slam::GetDecisions::Request& req,
                       rrr_slam::GetDecisions::Response& res);
+  bool OnGetAcceptedGraph(rrr_slam::GetAcceptedGraph::Request& req,
+                          rrr_slam::GetAcceptedGraph::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
   void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
@@ -92,6 +97,9 @@ class FleetNode {
                     const rrr_slam::LoopClosure& loop);
   // Counts an invalid message and warns (throttled), naming it.
   void Invalid(const std::string& what, uint32_t seq, const std::string& why);
+  // The accepted graph of the map in `map_frame`: every robot's sessions in
+  // it, each pose named by robot and keyframe id.
+  rrr_slam::AcceptedGraph AcceptedGraph() const;
   // Sets status_'s counts of keyframes, candidates and their states from the
   // fleet; under state_mutex_ once the worker runs.
   void CountState();
@@ -111,8 +119,9 @@ class FleetNode {
   std::vector<ros::Subscriber> odom_subs_;
   ros::Subscriber fleet_loop_sub_, loop_sub_;
   std::vector<ros::Publisher> keyframe_pubs_, path_pubs_;
-  ros::Publisher marker_pub_, decision_pub_;
-  ros::ServiceServer finish_srv_, save_srv_, status_srv_, decisions_srv_;
+  ros::Publisher marker_pub_, decision_pub_, graph_pub_;
+  ros::ServiceServer finish_srv_, save_srv_, status_srv_, decisions_srv_,
+      graph_srv_;
   ros::Publisher diagnostics_pub_;
   ros::Timer tf_timer_, diagnostics_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
@@ -123,7 +132,7 @@ class FleetNode {
   rrr::Fleet<Pose> fleet_;
   std::unique_ptr<rrr::FleetStore<Pose>> store_;  // with `database` set
   bool changed_ = false;  // keyframes or decisions since the last publishing
-  ros::WallTime last_published_;
+  ros::WallTime last_published_, last_graph_published_;
   uint64_t taken_since_update_ = 0;
   int candidates_published_ = 0;      // on ~decisions, as new
   int refused_by_stamp_counted_ = 0;  // in status_.skipped_unknown_poses

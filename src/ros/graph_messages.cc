@@ -182,13 +182,13 @@ visualization_msgs::MarkerArray GraphMarkers(
 }
 
 template <class Pose>
-rrr_slam::AcceptedGraph AcceptedGraphMsg(
-    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
-    const std::vector<int>& accepted, const std::string& frame) {
+rrr_slam::AcceptedGraph AcceptedGraphMsg(const rrr::PoseGraph<Pose>& graph,
+                                         const std::vector<Pose>& map,
+                                         const std::vector<int>& accepted,
+                                         const std::string& frame) {
   rrr_slam::AcceptedGraph msg;
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = frame;
-  const auto& graph = verifier.graph();
   msg.ids = graph.ids();
   for (const Pose& p : map) msg.poses.push_back(ToRos(p));
   for (const auto& e : graph.odometry())
@@ -224,7 +224,7 @@ void SaveGraphFile(const std::string& path,
       const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,         \
       const std::string&);                                                \
   template rrr_slam::AcceptedGraph AcceptedGraphMsg(                      \
-      const rrr::OnlineVerifier<Pose>&, const std::vector<Pose>&,         \
+      const rrr::PoseGraph<Pose>&, const std::vector<Pose>&,              \
       const std::vector<int>&, const std::string&);
 RRR_INSTANTIATE_GRAPH_MESSAGES(rrr::Pose2)
 RRR_INSTANTIATE_GRAPH_MESSAGES(rrr::Pose3)

@@ -68,12 +68,13 @@ visualization_msgs::MarkerArray GraphMarkers(
     const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
     const std::string& frame);
 
-// The accepted graph: `map` as the poses, every odometry edge and the loops
-// `accepted` (graph loop indices).
+// The accepted graph: `graph`'s ids with `map` as their poses, every
+// odometry edge and the loops `accepted` (graph loop indices).
 template <class Pose>
-rrr_slam::AcceptedGraph AcceptedGraphMsg(
-    const rrr::OnlineVerifier<Pose>& verifier, const std::vector<Pose>& map,
-    const std::vector<int>& accepted, const std::string& frame);
+rrr_slam::AcceptedGraph AcceptedGraphMsg(const rrr::PoseGraph<Pose>& graph,
+                                         const std::vector<Pose>& map,
+                                         const std::vector<int>& accepted,
+                                         const std::string& frame);
 
 // Writes a graph file at `path` with `write` and says in `*res` whether it
 // was written (naming the path), as ~save_graph answers.

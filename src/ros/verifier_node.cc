@@ -263,8 +263,9 @@ bool VerifierNode<Pose>::OnGetAcceptedGraph(
     rrr_slam::GetAcceptedGraph::Request&,
     rrr_slam::GetAcceptedGraph::Response& res) {
   worker_.RunOnWorker([&] {
-    res.graph = AcceptedGraphMsg(
-        *verifier_, FreshMap(), verifier_->AcceptedLoops(), options_.map_frame);
+    res.graph =
+        AcceptedGraphMsg(verifier_->graph(), FreshMap(),
+                         verifier_->AcceptedLoops(), options_.map_frame);
   });
   return true;
 }
@@ -412,7 +413,7 @@ void VerifierNode<Pose>::PublishDue(unsigned now) {
   }
   if (due(graph_pub_, kGraph, &graph_stale_, &last_graph_,
           options_.graph_period)) {
-    graph_pub_.publish(AcceptedGraphMsg(*verifier_, FreshMap(),
+    graph_pub_.publish(AcceptedGraphMsg(verifier_->graph(), FreshMap(),
                                         verifier_->AcceptedLoops(),
                                         options_.map_frame));
   }

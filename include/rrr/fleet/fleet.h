@@ -43,6 +43,18 @@ struct FleetOptions {
   bool judge_between_in_background = false;
 };
 
+// The accepted graph of one map of a fleet (Fleet::AcceptedGraph).
+template <class Pose>
+struct FleetGraph {
+  // The keyframes of the sessions in the map, in chain order, at their
+  // corrected poses, under the ids of ChainsVerifier::Graph() (every chain,
+  // a gap of one id between two); their odometry and the accepted loops
+  // between them.
+  PoseGraph<Pose> graph;
+  std::vector<int> robot;              // of each pose
+  std::vector<std::int64_t> keyframe;  // of each pose: its id in its robot
+};
+
 // The robots named at construction, each with its sessions: a session is one
 // odometry chain of the verifier, joined to the others only by loop closures
 // (never by an odometry edge that did not happen). A robot's keyframes are
@@ -150,6 +162,9 @@ class Fleet {
   std::vector<Pose> Path(int robot, int map) const;
   // The stamps of Path(robot, map)'s keyframes.
   std::vector<std::int64_t> PathStamps(int robot, int map) const;
+  // The accepted graph of map `map` (a chain index, as MapOfRobot()), as of
+  // the last Update(); empty for a chain that is not a map.
+  FleetGraph<Pose> AcceptedGraph(int map) const;
   // The corrected pose of keyframe `pose` in its map's frame, as Path();
   // nothing if it does not exist.
   std::optional<Pose> Corrected(const ChainPose& pose) const;

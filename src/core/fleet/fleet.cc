@@ -8,6 +8,7 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/candidate_defect.h"
+#include "rrr/graph/chain_spans.h"
 
 namespace rrr {
 namespace {
@@ -308,6 +309,43 @@ std::vector<std::int64_t> Fleet<Pose>::PathStamps(int robot, int map) const {
     stamps.insert(stamps.end(), own.begin(), own.end());
   }
   return stamps;
+}
+
+template <class Pose>
+FleetGraph<Pose> Fleet<Pose>::AcceptedGraph(int map) const {
+  std::vector<int> candidate_of_loop;
+  const PoseGraph<Pose> all = verifier_.Graph(&candidate_of_loop);
+  FleetGraph<Pose> out;
+  std::vector<ChainSpan> spans;
+  std::vector<Pose> estimates = all.estimates();
+  int offset = 0;
+  for (int c = 0; c < verifier_.num_chains(); ++c) {
+    const int poses = verifier_.chain(c).graph().num_poses();
+    if (verifier_.map_of_chain(c) == map) {
+      const Session& session = sessions_by_chain_[c];
+      spans.push_back({offset, offset + poses - 1});
+      for (int k = 0; k < poses; ++k) {
+        estimates[offset + k] = session.map[k];
+        out.robot.push_back(robot_of_chain_[c]);
+        out.keyframe.push_back(session.first_id + k);
+      }
+    }
+    offset += poses;
+  }
+  const auto in_map = [&](int pose) {
+    return std::any_of(spans.begin(), spans.end(),
+                       [&](const ChainSpan& s) { return s.Holds(pose); });
+  };
+  std::vector<int> loops;
+  for (size_t k = 0; k < all.loops().size(); ++k) {
+    const auto& e = all.loops()[k];
+    if (verifier_.state(candidate_of_loop[k]) == LoopState::kAccepted &&
+        in_map(e.from) && in_map(e.to)) {
+      loops.push_back(static_cast<int>(k));
+    }
+  }
+  out.graph = SubGraph(all, spans, estimates, loops);
+  return out;
 }
 
 template <class Pose>

@@ -124,6 +124,23 @@ TEST(Fleet, TwoRobotsJoinedByTheirLoopsShareOneMapFrame) {
   EXPECT_LT((path[0].translation() - start.translation()).norm(), 0.25);
   const Pose2 corrected = *fleet.MapToOdom(1) * second.back().odometry_pose;
   EXPECT_LT((corrected.translation() - path.back().translation()).norm(), 1e-6);
+
+  // The map's accepted graph: both robots' keyframes at their corrected
+  // poses, their odometry, and every accepted loop.
+  const FleetGraph<Pose2> accepted = fleet.AcceptedGraph(0);
+  ASSERT_EQ(accepted.graph.num_poses(), 800);
+  EXPECT_EQ(accepted.graph.odometry().size(), 798u);
+  EXPECT_EQ(static_cast<int>(accepted.graph.loops().size()),
+            fleet.verifier().num_in_state(LoopState::kAccepted));
+  EXPECT_EQ(accepted.robot[399], 0);
+  EXPECT_EQ(accepted.robot[400], 1);
+  EXPECT_EQ(accepted.keyframe[400], 0);
+  EXPECT_EQ(accepted.keyframe[799], 399);
+  EXPECT_LT((accepted.graph.estimates()[799].translation() -
+             path.back().translation())
+                .norm(),
+            1e-9);
+  EXPECT_EQ(fleet.AcceptedGraph(1).graph.num_poses(), 0) << "not a map";
 }
 
 TEST(Fleet, AJumpABackwardStampOrARequestStartsANewSession) {
