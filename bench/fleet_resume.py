@@ -20,12 +20,21 @@ import common
 ROBOTS = "[a, b, c]"
 
 
+def print_recording(status):
+    print(f"recorded: {status['keyframes']} keyframes, {status['candidates']} candidates, "
+          f"{status['updates']} updates; update p50 {float(status['update_seconds_p50']) * 1e3:.1f} ms, "
+          f"p99 {float(status['update_seconds_p99']) * 1e3:.1f} ms, "
+          f"max {float(status['max_update_seconds']) * 1e3:.0f} ms")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--poses", type=int, default=6000)
     parser.add_argument("--false-loops", type=int, default=120)
     parser.add_argument("--rate", type=float, default=50.0)
     parser.add_argument("--port", type=int, default=11877)
+    parser.add_argument("--no-database", action="store_true",
+                        help="record nothing: the update times without the database, then stop")
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "fleet_resume"))
     args = parser.parse_args()
     common.require_rrr()
@@ -41,7 +50,8 @@ def main():
     try:
         time.sleep(4)
         launch = subprocess.Popen(
-            ["roslaunch", "rrr_slam", "fleet.launch", f"database:={database}", f"poses:={args.poses}",
+            ["roslaunch", "rrr_slam", "fleet.launch", f"database:={'' if args.no_database else database}",
+             f"poses:={args.poses}",
              f"false_loops:={args.false_loops}", f"rate:={args.rate}"],
             env=env, stdout=log, stderr=subprocess.STDOUT)
         deadline = time.time() + 30 + 2 * args.poses / args.rate
@@ -54,6 +64,9 @@ def main():
         recorded = common.service(env, "/rrr_node/get_status")
         launch.send_signal(signal.SIGINT)
         launch.wait(timeout=60)
+        if args.no_database:
+            print_recording(recorded)
+            return
 
         subprocess.run(["rosparam", "load", common.ROOT / "config" / "rrr.yaml", "/rrr_node"], env=env,
                        check=True)
@@ -73,12 +86,9 @@ def main():
                 process.send_signal(signal.SIGINT)
                 process.wait(timeout=60)
         log.close()
+    print_recording(recorded)
     size = database.stat().st_size + sum(p.stat().st_size for p in out.glob("fleet.db-*"))
     inputs = int(recorded["keyframes"]) + int(recorded["candidates"])
-    print(f"recorded: {recorded['keyframes']} keyframes, {recorded['candidates']} candidates, "
-          f"{recorded['updates']} updates; update p50 {float(recorded['update_seconds_p50']) * 1e3:.1f} ms, "
-          f"p99 {float(recorded['update_seconds_p99']) * 1e3:.1f} ms, "
-          f"max {float(recorded['max_update_seconds']) * 1e3:.0f} ms")
     print(f"database: {size / 1e6:.2f} MB ({size / inputs:.0f} bytes per keyframe or candidate)")
     print(f"resumed: {resumed['resumed_keyframes']} keyframes, {resumed['resumed_candidates']} candidates "
           f"in {seconds:.1f} s (start to ~get_status)")
