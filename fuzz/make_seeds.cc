@@ -97,20 +97,22 @@ void WriteFleetSession(const rrr::PoseGraph<rrr::Pose2>& graph,
       keyframe.odometry_pose =
           graph.estimates()[r * half].between(graph.estimates()[r * half + k]);
       const auto taken = fleet.AddReading(r, keyframe);
-      store.RecordKeyframe(r, keyframe, taken.new_session);
+      store.RecordKeyframe(r, keyframe, taken);
     }
     for (const auto& l : graph.loops()) {
       const int ra = l.from / half, rb = l.to / half;
       const int ka = l.from % half, kb = l.to % half;
       if (ra > 1 || rb > 1 || std::max(ka, kb) != k) continue;
       if (ka == 0) {
-        fleet.AddLoopByStamp(ra, 0, rb, 1000000000LL * kb, l.measurement,
-                             l.information);
-        store.RecordCandidateByStamp(ra, 0, rb, 1000000000LL * kb,
+        const int number = fleet.AddLoopByStamp(ra, 0, rb, 1000000000LL * kb,
+                                                l.measurement, l.information);
+        store.RecordCandidateByStamp(number, ra, 0, rb, 1000000000LL * kb,
                                      l.measurement, l.information);
       } else {
-        fleet.AddLoop(ra, ka, rb, kb, l.measurement, l.information);
-        store.RecordCandidate(ra, ka, rb, kb, l.measurement, l.information);
+        const int number =
+            fleet.AddLoop(ra, ka, rb, kb, l.measurement, l.information);
+        store.RecordCandidate(number, ra, ka, rb, kb, l.measurement,
+                              l.information);
       }
     }
     if ((k + 1) % update_every == 0) store.CommitUpdate(false, fleet.Update());

@@ -46,7 +46,7 @@ void FleetNode<Pose>::Process(const RobotOdometry& odometry) {
              static_cast<long long>(taken.id));
   }
   if (!taken.keyframe) return;
-  if (store_) store_->RecordKeyframe(r, reading, taken.new_session);
+  if (store_) store_->RecordKeyframe(r, reading, taken);
   changed_ = true;
   rrr_slam::Keyframe keyframe;
   keyframe.header.stamp = msg.header.stamp;
@@ -90,17 +90,19 @@ void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
   }
   try {
     if (loop.reference == rrr_slam::LoopClosure::BY_ID) {
-      fleet_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
+      const int number =
+          fleet_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
       if (store_) {
-        store_->RecordCandidate(from, loop.from_id, to, loop.to_id, z,
+        store_->RecordCandidate(number, from, loop.from_id, to, loop.to_id, z,
                                 information);
       }
     } else {
       const auto from_ns = static_cast<std::int64_t>(loop.from_stamp.toNSec());
       const auto to_ns = static_cast<std::int64_t>(loop.to_stamp.toNSec());
-      fleet_.AddLoopByStamp(from, from_ns, to, to_ns, z, information);
+      const int number =
+          fleet_.AddLoopByStamp(from, from_ns, to, to_ns, z, information);
       if (store_) {
-        store_->RecordCandidateByStamp(from, from_ns, to, to_ns, z,
+        store_->RecordCandidateByStamp(number, from, from_ns, to, to_ns, z,
                                        information);
       }
     }

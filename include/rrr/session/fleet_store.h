@@ -55,7 +55,9 @@ class FleetStore {
   // Feeds the recording to `fleet`, which must be new and name every
   // recorded robot, in the order it was recorded: each keyframe as the
   // fleet took it (Fleet::AddKeyframe, its sessions as they were), each
-  // candidate, and Update() or Finish() where the recording ran one. Then
+  // candidate, and Update() or Finish() where the recording ran one (each
+  // keyframe must come back under its recorded id and each candidate under
+  // its recorded number). Then
   // every robot that has a session starts a new one with its next reading
   // (a node started again cannot know where its robots went meanwhile; only
   // loop closures join what comes next to what was). Throws SessionError
@@ -63,17 +65,17 @@ class FleetStore {
   FleetResumeSummary Resume(Fleet<Pose>* fleet);
 
   // Records a keyframe the fleet took from robot `robot` (its index in the
-  // robots given at construction), and whether it started a session.
+  // robots given at construction): what Fleet::AddReading made of it.
   void RecordKeyframe(int robot, const KeyframeRecord<Pose>& keyframe,
-                      bool new_session);
-  // Records a candidate the fleet took (numbered, or waiting for a robot).
-  void RecordCandidate(int robot_a, std::int64_t id_a, int robot_b,
+                      const typename Fleet<Pose>::Taken& taken);
+  // Records a candidate the fleet took, with the number it gave it (-1: it
+  // waits for a robot or a keyframe near a stamp).
+  void RecordCandidate(int number, int robot_a, std::int64_t id_a, int robot_b,
                        std::int64_t id_b, const Pose& z,
                        const Information& information);
-  // Records a candidate named by stamps that the fleet took (numbered, or
-  // waiting; Fleet::AddLoopByStamp).
-  void RecordCandidateByStamp(int robot_a, std::int64_t stamp_a, int robot_b,
-                              std::int64_t stamp_b, const Pose& z,
+  // The same for a candidate named by stamps (Fleet::AddLoopByStamp).
+  void RecordCandidateByStamp(int number, int robot_a, std::int64_t stamp_a,
+                              int robot_b, std::int64_t stamp_b, const Pose& z,
                               const Information& information);
   // Writes what was recorded since the last commit and the update that
   // followed it (`finish`: a Finish()) with its changes, in one transaction.

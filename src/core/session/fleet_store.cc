@@ -28,6 +28,7 @@ CREATE TABLE inputs(
   seq INTEGER PRIMARY KEY,       -- arrival order
   kind INTEGER NOT NULL,  -- 0 session start, 1 keyframe, 2 candidate, 3 by stamp
   robot INTEGER NOT NULL,        -- keyframes; candidates: the from end's
+  number INTEGER NOT NULL,       -- keyframe id, or candidate number (-1: waited)
   stamp_ns INTEGER,              -- keyframes
   odometry_pose BLOB,            -- keyframes: pose in the robot's odometry
   covariance BLOB,               -- keyframes: its 6 x 6 covariance (*)
@@ -109,8 +110,8 @@ class FleetStore<Pose>::Impl {
     insert_input = std::make_unique<SqliteStatement>(
         &db,
         "INSERT INTO inputs(seq, kind, robot, stamp_ns, odometry_pose, "
-        "covariance, to_robot, from_id, to_id, measurement, information) "
-        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+        "covariance, to_robot, from_id, to_id, measurement, information, "
+        "number) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
     updates = std::make_unique<UpdateLog>(&db);
   }
 
@@ -123,6 +124,7 @@ class FleetStore<Pose>::Impl {
   // Rows recorded since the last commit.
   struct Pending {
     FleetInputKind kind;
+    std::int64_t number = 0;
     std::int64_t robot = 0;
     KeyframeRecord<Pose> keyframe;
     std::int64_t to_robot = 0, from_id = 0, to_id = 0;
@@ -151,10 +153,11 @@ int FleetStore<Pose>::num_uncommitted() const {
 }
 
 template <class Pose>
-void FleetStore<Pose>::RecordKeyframe(int robot,
-                                      const KeyframeRecord<Pose>& keyframe,
-                                      bool new_session) {
-  impl_->pending.push_back({new_session ? kSessionStart : kNextKeyframe,
+void FleetStore<Pose>::RecordKeyframe(
+    int robot, const KeyframeRecord<Pose>& keyframe,
+    const typename Fleet<Pose>::Taken& taken) {
+  impl_->pending.push_back({taken.new_session ? kSessionStart : kNextKeyframe,
+                            taken.id,
                             impl_->stored_robot.at(robot),
                             keyframe,
                             0,
@@ -165,25 +168,26 @@ void FleetStore<Pose>::RecordKeyframe(int robot,
 }
 
 template <class Pose>
-void FleetStore<Pose>::RecordCandidate(int robot_a, std::int64_t id_a,
-                                       int robot_b, std::int64_t id_b,
-                                       const Pose& z,
+void FleetStore<Pose>::RecordCandidate(int number, int robot_a,
+                                       std::int64_t id_a, int robot_b,
+                                       std::int64_t id_b, const Pose& z,
                                        const Information& information) {
-  impl_->pending.push_back({kCandidate, impl_->stored_robot.at(robot_a),
+  impl_->pending.push_back({kCandidate, number, impl_->stored_robot.at(robot_a),
                             KeyframeRecord<Pose>{},
                             impl_->stored_robot.at(robot_b), id_a, id_b,
                             Encode(z), Encode(information)});
 }
 
 template <class Pose>
-void FleetStore<Pose>::RecordCandidateByStamp(int robot_a, std::int64_t stamp_a,
-                                              int robot_b, std::int64_t stamp_b,
+void FleetStore<Pose>::RecordCandidateByStamp(int number, int robot_a,
+                                              std::int64_t stamp_a, int robot_b,
+                                              std::int64_t stamp_b,
                                               const Pose& z,
                                               const Information& information) {
-  impl_->pending.push_back({kCandidateByStamp, impl_->stored_robot.at(robot_a),
-                            KeyframeRecord<Pose>{},
-                            impl_->stored_robot.at(robot_b), stamp_a, stamp_b,
-                            Encode(z), Encode(information)});
+  impl_->pending.push_back(
+      {kCandidateByStamp, number, impl_->stored_robot.at(robot_a),
+       KeyframeRecord<Pose>{}, impl_->stored_robot.at(robot_b), stamp_a,
+       stamp_b, Encode(z), Encode(information)});
 }
 
 template <class Pose>
@@ -196,6 +200,7 @@ void FleetStore<Pose>::CommitUpdate(
     SqliteStatement& insert = *s.insert_input;
     for (const typename Impl::Pending& row : s.pending) {
       for (int column = 1; column <= 11; ++column) insert.BindNull(column);
+      insert.Bind(12, row.number);
       insert.Bind(1, seq++);
       insert.Bind(2, static_cast<std::int64_t>(row.kind));
       insert.Bind(3, row.robot);
@@ -263,7 +268,7 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
   SqliteStatement query(
       &s.db,
       "SELECT seq, kind, robot, stamp_ns, odometry_pose, covariance, "
-      "to_robot, from_id, to_id, measurement, information FROM inputs "
+      "to_robot, from_id, to_id, measurement, information, number FROM inputs "
       "ORDER BY seq");
   while (query.Step()) {
     const std::int64_t seq = query.Int(0);
@@ -279,11 +284,16 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
         Information information;
         DecodeMeasurement(s.db, query, 9, 10, at, &z, &information);
         const int to = robot(query.Int(6), at);
-        if (kind == kCandidate) {
-          fleet->AddLoop(from, query.Int(7), to, query.Int(8), z, information);
-        } else {
-          fleet->AddLoopByStamp(from, query.Int(7), to, query.Int(8), z,
-                                information);
+        const int number =
+            kind == kCandidate
+                ? fleet->AddLoop(from, query.Int(7), to, query.Int(8), z,
+                                 information)
+                : fleet->AddLoopByStamp(from, query.Int(7), to, query.Int(8), z,
+                                        information);
+        if (number != query.Int(11)) {
+          fail("the candidate recorded as number " +
+               std::to_string(query.Int(11)) + " arrives as " +
+               std::to_string(number));
         }
         ++summary.candidates;
       } else if (kind == kSessionStart || kind == kNextKeyframe) {
@@ -294,7 +304,13 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
                        static_cast<const Pose*>(nullptr), fail);
         keyframe.covariance =
             FiniteMatrix<6>(s.db, query, 5, "a covariance", at);
-        fleet->AddKeyframe(from, keyframe, kind == kSessionStart);
+        const auto taken =
+            fleet->AddKeyframe(from, keyframe, kind == kSessionStart);
+        if (taken.id != query.Int(11)) {
+          fail("the keyframe of robot '" + s.recorded_robots[query.Int(2)] +
+               "' recorded as " + std::to_string(query.Int(11)) +
+               " arrives as " + std::to_string(taken.id));
+        }
         ++summary.keyframes;
         if (kind == kSessionStart) ++summary.sessions;
       } else {

@@ -14,6 +14,7 @@
 #include "../testing/chain_worlds.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "sqlite_db.h"
 
 namespace rrr {
 namespace {
@@ -60,7 +61,7 @@ class FleetStoreTest : public ::testing::Test {
         const auto taken = fleet->AddReading(r, readings_[r][k]);
         ASSERT_TRUE(taken.keyframe);
         id_[r][k] = taken.id;
-        if (store) store->RecordKeyframe(r, readings_[r][k], taken.new_session);
+        if (store) store->RecordKeyframe(r, readings_[r][k], taken);
       }
       for (const auto& e : graph_.loops()) {
         const int ra = e.from < 400 ? 0 : 1, rb = e.to < 400 ? 0 : 1;
@@ -68,10 +69,10 @@ class FleetStoreTest : public ::testing::Test {
         if (std::max(ka, kb) != k || id_[ra][ka] < 0 || id_[rb][kb] < 0) {
           continue;
         }
-        fleet->AddLoop(ra, id_[ra][ka], rb, id_[rb][kb], e.measurement,
-                       e.information);
+        const int number = fleet->AddLoop(ra, id_[ra][ka], rb, id_[rb][kb],
+                                          e.measurement, e.information);
         if (store) {
-          store->RecordCandidate(ra, id_[ra][ka], rb, id_[rb][kb],
+          store->RecordCandidate(number, ra, id_[ra][ka], rb, id_[rb][kb],
                                  e.measurement, e.information);
         }
       }
@@ -167,7 +168,7 @@ TEST_F(FleetStoreTest, AResumeOfAFinishedRunDecidesAsTheRun) {
     EXPECT_EQ(fleet.AddLoopByStamp(0, readings_[0][390].stamp_ns, 1,
                                    readings_[1][395].stamp_ns, z, information),
               next);
-    store.RecordCandidateByStamp(0, readings_[0][390].stamp_ns, 1,
+    store.RecordCandidateByStamp(next, 0, readings_[0][390].stamp_ns, 1,
                                  readings_[1][395].stamp_ns, z, information);
     store.CommitUpdate(true, fleet.Finish());
     finished = States(fleet);
@@ -205,6 +206,30 @@ TEST_F(FleetStoreTest, AResumeWithoutARecordedRobotSaysWhich) {
   } catch (const SessionError& e) {
     EXPECT_THAT(e.what(), HasSubstr(path_));
     EXPECT_THAT(e.what(), HasSubstr("robot 'b' is recorded but not among"));
+  }
+}
+
+TEST_F(FleetStoreTest, ARecordThatDoesNotReplayAsRecordedIsRefusedNamingIt) {
+  {
+    Fleet<Pose2> fleet({"a", "b"}, Options());
+    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
+    Drive(0, 100, &fleet, &store);
+  }
+  {  // a keyframe taken out of robot b's record
+    SqliteDb db(path_, false);
+    db.Execute(
+        "DELETE FROM inputs WHERE seq = (SELECT min(seq) FROM inputs WHERE "
+        "kind = 1 AND robot = 1 AND number = 50)");
+  }
+  Fleet<Pose2> fleet({"a", "b"}, Options());
+  FleetStore<Pose2> store(path_, {"a", "b"}, "map");
+  try {
+    store.Resume(&fleet);
+    FAIL() << "resumed";
+  } catch (const SessionError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path_));
+    EXPECT_THAT(e.what(), HasSubstr("the keyframe of robot 'b' recorded as 51 "
+                                    "arrives as 50"));
   }
 }
 
