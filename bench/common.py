@@ -142,6 +142,19 @@ def write_with_loops(src, dst, wanted):
         f.writelines(line for key, line in loops if key in wanted)
 
 
+def write_results(out, rows, columns, cells):
+    """Writes `rows` (dicts) to OUT/results.json and as a Markdown table to
+    OUT/table.md: `columns` its header, `cells(row)` a row's cells as text."""
+    with open(out / "results.json", "w") as f:
+        json.dump(rows, f, indent=1)
+    with open(out / "table.md", "w") as f:
+        f.write("| " + " | ".join(columns) + " |\n")
+        f.write("|" + "---|" * len(columns) + "\n")
+        for r in rows:
+            f.write("| " + " | ".join(cells(r)) + " |\n")
+    print(f"wrote {out / 'table.md'}")
+
+
 def ros_env(port):
     """The environment of the package's devel space with a master on `port`."""
     return ros_processes.ros_env(ROOT / "_build", port)

@@ -15,7 +15,6 @@ verify` judges each set.
         [--out bench/out/meet_once]
 """
 import argparse
-import json
 import pathlib
 
 import common
@@ -105,18 +104,12 @@ def main():
                           f"{len(true_between):>14} {len(false_between):>14} {outcome:>14} "
                           f"{row['inside_precision']:>14.4f} {row['inside_recall']:>14.4f} {seconds:>14.2f}",
                           flush=True)
-    with open(out / "results.json", "w") as f:
-        json.dump(rows, f, indent=1)
-    with open(out / "table.md", "w") as f:
-        f.write("| dataset | false loops between | method | true loops between (one revisit) | accepted true | "
-                "accepted false | outcome | inside precision | inside recall | s |\n")
-        f.write("|---|---|---|---|---|---|---|---|---|---|\n")
-        for r in rows:
-            f.write(f"| {r['dataset']} | {r['outliers']} {r['kind']} | {r['method']} | {r['revisit']} | "
-                    f"{r['true_between']} | {r['false_between']} | {r['outcome']} | "
-                    f"{r['inside_precision']:.4f} | {r['inside_recall']:.4f} | {r['seconds']:.2f} |\n")
-    print(f"wrote {out / 'table.md'}")
-
+    common.write_results(
+        out, rows, ["dataset", "false loops between", "method", "true loops between (one revisit)",
+                    "accepted true", "accepted false", "outcome", "inside precision", "inside recall", "s"],
+        lambda r: [r["dataset"], f"{r['outliers']} {r['kind']}", r["method"], str(r["revisit"]),
+                   str(r["true_between"]), str(r["false_between"]), r["outcome"],
+                   f"{r['inside_precision']:.4f}", f"{r['inside_recall']:.4f}", f"{r['seconds']:.2f}"])
 
 if __name__ == "__main__":
     main()

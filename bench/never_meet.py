@@ -14,7 +14,6 @@ datasets verified alone (summed).
         [--out bench/out/never_meet]
 """
 import argparse
-import json
 import pathlib
 
 import common
@@ -105,18 +104,12 @@ def main():
                     print(f"{names[0][:12]:>12} {names[1][:12]:>12} {kind:>12} {n:>12} {method:>12} "
                           f"{str(row['joined']):>12} {len(between):>12} {str(same):>12} {seconds:>12.2f} "
                           f"{row['ratio']:>12.2f}", flush=True)
-    with open(out / "results.json", "w") as f:
-        json.dump(rows, f, indent=1)
-    with open(out / "table.md", "w") as f:
-        f.write("| chains | false loops between | method | joined | loops between accepted | "
-                "loops inside as each alone | s | × the two alone |\n")
-        f.write("|---|---|---|---|---|---|---|---|\n")
-        for r in rows:
-            f.write(f"| {r['first']} + {r['second']} | {r['outliers']} {r['kind']} | {r['method']} | "
-                    f"{'yes' if r['joined'] else 'no'} | {r['between_accepted']} | "
-                    f"{'yes' if r['inside_same'] else 'no'} | {r['seconds']:.2f} | {r['ratio']:.2f} |\n")
-    print(f"wrote {out / 'table.md'}")
-
+    common.write_results(
+        out, rows, ["chains", "false loops between", "method", "joined", "loops between accepted",
+                    "loops inside as each alone", "s", "× the two alone"],
+        lambda r: [f"{r['first']} + {r['second']}", f"{r['outliers']} {r['kind']}", r["method"],
+                   "yes" if r["joined"] else "no", str(r["between_accepted"]),
+                   "yes" if r["inside_same"] else "no", f"{r['seconds']:.2f}", f"{r['ratio']:.2f}"])
 
 if __name__ == "__main__":
     main()
