@@ -398,8 +398,10 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
     }
     for (auto& [key, marker] : loops) markers.markers.push_back(marker);
     marker_pub_.publish(markers);
-    if (finish ||
-        (now - last_graph_published_).toSec() >= options_.graph_period) {
+    // The accepted graph copies the whole fleet's graph: only for listeners.
+    if (graph_pub_.getNumSubscribers() > 0 &&
+        (finish ||
+         (now - last_graph_published_).toSec() >= options_.graph_period)) {
       last_graph_published_ = now;
       graph_pub_.publish(AcceptedGraph());
     }
