@@ -72,7 +72,9 @@ struct MapVerifierStats {
 //     longer holds (an accepted link's Δ over the gate in force, or its
 //     links over their gates at the map's estimate), and one the map holds
 //     nothing of whose loop, refused by the odometry alone, passes that
-//     test under the scale in force (nothing else spoke against it). The
+//     test under the scale in force (nothing else spoke against it), and
+//     one refused against the map while a cluster that is now out of it
+//     was in it (the decision's premise is gone). The
 //     refused links of other clusters that the map's estimate now fits,
 //     each alone and with the cluster's accepted links, are accepted. A
 //     refused link of a cluster in the map comes back when the map agrees
@@ -141,6 +143,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
     Status status = Status::kPending;
     std::vector<int> accepted;  // its links in the map, ascending
     int ready_pose = -1;        // pose index at which it became ready
+    // Refused against the map: the accepted clusters that its failed trial
+    // strained (or that outweighed it), ascending. It is judged again once
+    // one of them is out of the map.
+    std::vector<int> conflicts;
   };
   // What links are tested against: the odometry alone (SolveCondensed) or
   // the map (MaintainedMap::Try).

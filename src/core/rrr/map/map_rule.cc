@@ -125,6 +125,7 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
   ClusterRecord& record = records_[c];
   record.status = Status::kRefused;
   record.accepted.clear();
+  record.conflicts.clear();
   touched_.push_back(c);
   std::vector<int> links;
   for (const int loop : clustering_.clusters()[c].loops) {
@@ -231,6 +232,9 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
     }
   }
   std::sort(strained.rbegin(), strained.rend());
+  std::vector<int>& conflicts = records_[c].conflicts;
+  for (const auto& [strain, a] : strained) conflicts.push_back(a);
+  std::sort(conflicts.begin(), conflicts.end());
   // Set aside in turn while the links do not fit. What the set-aside
   // clusters R bring to the map with the links is, by the additivity of
   // minimal errors, Δ(R) + Δ(links with R) − Δ(links without R), with Δ(R)
@@ -273,6 +277,7 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
       }
       records_[r].status = Status::kRefused;
       records_[r].accepted.clear();
+      records_[r].conflicts = {c};
       scale_.RemoveClusterSample(r);
       touched_.push_back(r);
     }
@@ -307,6 +312,12 @@ bool MapVerifier<Pose>::InDoubt(int c) const {
                r.statistic < Gate(Against::kOdometry, e)) {
       return true;
     }
+  }
+  if (record.status == Status::kRefused &&
+      std::any_of(record.conflicts.begin(), record.conflicts.end(), [&](int a) {
+        return records_[a].status != Status::kAccepted;
+      })) {
+    return true;
   }
   double sum = 0.0;
   return record.status == Status::kAccepted &&

@@ -10,7 +10,7 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 3";
+constexpr char kStateFormat[] = "rrr map procedure state, version 4";
 
 // The options that decisions depend on, as bytes: a state saved under
 // others is not restored.
@@ -75,6 +75,7 @@ std::string MapVerifier<Pose>::SaveState() const {
     out.Int(static_cast<std::int64_t>(r.status));
     out.Ints(r.accepted);
     out.Int(r.ready_pose);
+    out.Ints(r.conflicts);
   }
   out.Ints(pending_);
   out.Doubles(alone_chi2_);
@@ -113,7 +114,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   this->RestoreRecord(&in);
   const PoseGraph<Pose>& graph = this->graph();
   clustering_.Restore(&in);
-  records_.resize(in.Count("cluster records", 3 * sizeof(std::int32_t)));
+  records_.resize(in.Count("cluster records", 4 * sizeof(std::int32_t)));
   if (records_.size() != clustering_.clusters().size()) {
     throw std::runtime_error(
         "the state has " + std::to_string(records_.size()) +
@@ -124,6 +125,13 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
     r.status = ReadEnum(&in, Status::kRefused, "a cluster's status");
     r.accepted = in.Ints("a cluster's accepted links");
     r.ready_pose = static_cast<int>(in.Int("a cluster's ready pose"));
+    r.conflicts = in.Ints("a cluster's conflicts");
+    for (const int a : r.conflicts) {
+      if (a < 0 || a >= static_cast<int>(records_.size())) {
+        throw std::runtime_error("a cluster's conflict names cluster " +
+                                 std::to_string(a));
+      }
+    }
   }
   pending_ = in.Ints("the pending clusters");
   alone_chi2_ = in.Doubles("the loops' errors alone");
