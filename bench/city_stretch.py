@@ -9,12 +9,13 @@ first loop joining two streets, so it probes what the map procedure does
 when the false group comes before the evidence against it.
 
     bench/city_stretch.py [--first 5000] [--last 7499] [--outliers 100 250]
-        [--seeds 1 2 3 4 5 6] [--out bench/out/city_stretch]
+        [--seeds 1 2 3 4 5 6] [--methods map dcs gnc pcm] [--out bench/out/city_stretch]
 """
 import argparse
 import pathlib
 
 import common
+from compare_methods import METHODS
 
 
 def cut(src, dst, first, last):
@@ -40,6 +41,7 @@ def main():
     parser.add_argument("--last", type=int, default=7499)
     parser.add_argument("--outliers", nargs="*", type=int, default=[100, 250])
     parser.add_argument("--seeds", nargs="*", type=int, default=[1, 2, 3, 4, 5, 6])
+    parser.add_argument("--methods", nargs="*", default=["map"], choices=["map", "dcs", "gnc", "pcm"])
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "city_stretch"))
     args = parser.parse_args()
     common.require_rrr()
@@ -50,22 +52,26 @@ def main():
     rows = []
     for outliers in args.outliers:
         for seed in args.seeds:
-            run_dir = out / f"{outliers}_{seed}"
-            run_dir.mkdir(exist_ok=True)
-            spoiled, truth = run_dir / "spoiled.g2o", run_dir / "false.txt"
+            set_dir = out / f"{outliers}_{seed}"
+            set_dir.mkdir(exist_ok=True)
+            spoiled, truth = set_dir / "spoiled.g2o", set_dir / "false.txt"
             common.run("spoil", clean, "--outliers", outliers, "--group", 10, "--seed", seed,
                        "--output", spoiled, "--truth", truth)
-            report, seconds, _ = common.verify(spoiled, 10, run_dir)
-            scores = common.evaluate(run_dir / "report.json", "--false-loops", truth)
-            rows.append(dict(outliers=outliers, seed=seed, candidates=scores["candidates"],
-                             accepted=scores["accepted"], precision=scores["precision"],
-                             recall=scores["recall"], seconds=seconds))
-            print(f"{outliers:>5} false, seed {seed}: accepted {scores['accepted']} of "
-                  f"{scores['candidates']}, precision {scores['precision']:.4f}, "
-                  f"recall {scores['recall']:.4f}, {seconds:.2f} s", flush=True)
-    common.write_results(out, rows, ["false loops", "seed", "candidates", "accepted", "precision",
-                                     "recall", "s"],
-                         lambda r: [str(r["outliers"]), str(r["seed"]), str(r["candidates"]),
+            for method in args.methods:
+                run_dir = set_dir / method
+                run_dir.mkdir(exist_ok=True)
+                _, seconds, _ = common.verify(spoiled, 10, run_dir, extra=METHODS[method])
+                scores = common.evaluate(run_dir / "report.json", "--false-loops", truth)
+                rows.append(dict(outliers=outliers, seed=seed, method=method,
+                                 candidates=scores["candidates"], accepted=scores["accepted"],
+                                 precision=scores["precision"], recall=scores["recall"],
+                                 seconds=seconds))
+                print(f"{outliers:>5} false, seed {seed}, {method:>4}: accepted {scores['accepted']} of "
+                      f"{scores['candidates']}, precision {scores['precision']:.4f}, "
+                      f"recall {scores['recall']:.4f}, {seconds:.2f} s", flush=True)
+    common.write_results(out, rows, ["false loops", "seed", "method", "candidates", "accepted",
+                                     "precision", "recall", "s"],
+                         lambda r: [str(r["outliers"]), str(r["seed"]), r["method"], str(r["candidates"]),
                                     str(r["accepted"]), f"{r['precision']:.4f}",
                                     f"{r['recall']:.4f}", f"{r['seconds']:.2f}"])
 
