@@ -61,7 +61,8 @@ struct MapVerifierStats {
 //  3. Conflict (RRR's reversal). When the links first fail against the map,
 //     the accepted clusters whose links' errors the trial raised are set
 //     aside one by one, the most strained (over their gate) first, while
-//     the links do not fit. If they then fit, the set-aside clusters stay
+//     the links do not fit; one whose removal does not lower the links' Δ
+//     by more than Significant() is not in the conflict and goes back. If they then fit, the set-aside clusters stay
 //     out (kOutweighed) when they are the less consistent in the joint
 //     solve (RRR's consistency index: what each brings to the map with the
 //     other, over its gate) and the exchange keeps more links in the map

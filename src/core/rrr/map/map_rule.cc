@@ -235,7 +235,10 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
   std::vector<int>& conflicts = records_[c].conflicts;
   for (const auto& [strain, a] : strained) conflicts.push_back(a);
   std::sort(conflicts.begin(), conflicts.end());
-  // Set aside in turn while the links do not fit. What the set-aside
+  // Set aside in turn while the links do not fit. A cluster whose removal
+  // does not lower the links' Δ by more than Significant() is not in the
+  // conflict (the failed trial strains the true clusters a false group bent
+  // as much as the group itself) and goes back at once. What the set-aside
   // clusters R bring to the map with the links is, by the additivity of
   // minimal errors, Δ(R) + Δ(links with R) − Δ(links without R), with Δ(R)
   // as when they were accepted; over R's gate, it is their consistency
@@ -243,12 +246,13 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
   std::vector<int> removed;
   size_t removed_links = 0;
   double removed_brought = 0.0;
+  double increase = failed.increase;  // Δ(links without R)
   for (const auto& [strain, a] : strained) {
     const std::vector<int>& accepted = records_[a].accepted;
+    // A reversal must keep more links in the map than part 2 would.
+    if (removed_links + accepted.size() + kept >= links.size()) continue;
     // Δ(links without R) >= 0 bounds their index from above: once it cannot
     // exceed the links' own, no trial is needed.
-    // A reversal must keep more links in the map than part 2 would.
-    if (removed_links + accepted.size() + kept >= links.size()) break;
     const double brought =
         removed_brought + reasons_[accepted.front()].statistic;
     if ((brought + failed.increase) /
@@ -256,11 +260,17 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
         theirs) {
       break;
     }
+    map_->Remove(accepted, options_.map_radius, Significant());
+    const MapTrial without = Test(links, Against::kMap);
+    if (without.minimize.solved &&
+        increase - without.increase <= Significant()) {
+      map_->Add(accepted, options_.map_radius, Significant());
+      continue;
+    }
     removed.push_back(a);
     removed_links += accepted.size();
     removed_brought = brought;
-    map_->Remove(accepted, options_.map_radius, Significant());
-    const MapTrial without = Test(links, Against::kMap);
+    if (without.minimize.solved) increase = without.increase;
     if (!Passes(without, Against::kMap)) continue;
     const double others =
         (removed_brought + failed.increase - without.increase) /
