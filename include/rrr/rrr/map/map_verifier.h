@@ -62,11 +62,12 @@ struct MapVerifierStats {
 //     the accepted clusters whose links' errors the trial raised are set
 //     aside one by one, the most strained (over their gate) first, while
 //     the links do not fit; one whose removal does not lower the links' Δ
-//     by more than Significant() is not in the conflict and goes back. If they then fit, the set-aside clusters stay
-//     out (kOutweighed) when they are the less consistent in the joint
-//     solve (RRR's consistency index: what each brings to the map with the
-//     other, over its gate) and the exchange keeps more links in the map
-//     than part 2 alone would; else they return.
+//     by more than Significant() is not in the conflict and goes back. If
+//     they then fit, the set-aside clusters stay out (kOutweighed) when
+//     they are the less consistent in the joint solve (RRR's consistency
+//     index: what each brings to the map with the other, over its gate)
+//     and the exchange keeps more links in the map than part 2 alone
+//     would; else they return.
 //  4. The arbiter. After every whole-map minimization (`optimize_every`)
 //     and every reversal, until nothing changes (at most kMostArbiterRounds
 //     rounds), a cluster in doubt is judged again: one whose acceptance no
@@ -75,11 +76,11 @@ struct MapVerifierStats {
 //     nothing of whose loop, refused by the odometry alone, passes that
 //     test under the scale in force (nothing else spoke against it), and
 //     one refused against the map while a cluster that is now out of it
-//     was in it (the decision's premise is gone). The
-//     refused links of other clusters that the map's estimate now fits,
-//     each alone and with the cluster's accepted links, are accepted. A
-//     refused link of a cluster in the map comes back when the map agrees
-//     with it, not because the gates widened: accepting is the risky way.
+//     was in it (the decision's premise is gone). The refused links of
+//     other clusters that the map's estimate now fits, each alone and with
+//     the cluster's accepted links, are accepted. A refused link of a
+//     cluster in the map comes back when the map agrees with it, not
+//     because the gates widened: accepting is the risky way.
 // With an estimated scale, no cluster is judged before
 // NoiseScaleEstimate::kMinLoopSamples loops have sampled it (or Finish()).
 // The clusters ready at a pose are judged once the next pose exists (or at
@@ -217,7 +218,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   bool PassAtEstimate(const std::vector<int>& links, double* sum) const;
   // Part 3 for `links` of `c`, which failed `failed`, of which part 2 keeps
   // `kept`: returns whether they were accepted in place of accepted
-  // clusters with fewer links in all than the difference.
+  // clusters with fewer links in all than the difference. Records the
+  // clusters the failure strained as c's conflicts (part 4).
   bool Outweigh(int c, const std::vector<int>& links, const MapTrial& failed,
                 size_t kept);
   // Part 4, until nothing changes.

@@ -15,6 +15,7 @@
 #include "rrr/eval/loop_scores.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/chain_spans.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/sim/false_loops.h"
@@ -98,23 +99,19 @@ INSTANTIATE_TEST_SUITE_P(
              std::to_string(info.param.seed);
     });
 
-// The poses of `graph` with ids first..last and the edges between them.
+// The poses of `graph` with ids first..last (one chain) and the loops
+// between them.
 PoseGraph<Pose2> Stretch(const PoseGraph<Pose2>& graph, PoseId first,
                          PoseId last) {
-  PoseGraph<Pose2> stretch;
-  for (int k = 0; k < graph.num_poses(); ++k) {
-    if (graph.ids()[k] >= first && graph.ids()[k] <= last) {
-      stretch.AddPose(graph.ids()[k], graph.estimates()[k]);
+  const ChainSpan span{graph.IndexOf(first), graph.IndexOf(last)};
+  std::vector<int> inside;
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    if (span.Holds(e.from) && span.Holds(e.to)) {
+      inside.push_back(static_cast<int>(k));
     }
   }
-  for (const auto* edges : {&graph.odometry(), &graph.loops()}) {
-    for (PoseGraph<Pose2>::Edge e : *edges) {
-      e.from = stretch.IndexOf(graph.ids()[e.from]);
-      e.to = stretch.IndexOf(graph.ids()[e.to]);
-      if (e.from >= 0 && e.to >= 0) stretch.AddEdge(e);
-    }
-  }
-  return stretch;
+  return SubGraph(graph, {span}, graph.estimates(), inside);
 }
 
 // city10000's poses first..last plus `count` false loops in groups of ten
