@@ -73,7 +73,8 @@ struct MapVerifierStats {
 //     trial strained it, when they have more links, pass the own test
 //     together and, with that cluster alone set aside, this part's rule
 //     (evidence spread over several revisits, each smaller than one false
-//     group).
+//     group). Only clusters of two links or more take part: a single link
+//     has shown no agreement with itself.
 //  4. The arbiter. After every whole-map minimization (`optimize_every`)
 //     and every reversal, until nothing changes (at most kMostArbiterRounds
 //     rounds), a cluster in doubt is judged again: one whose acceptance no
@@ -234,12 +235,12 @@ class MapVerifier : public OnlineVerifier<Pose> {
   bool Outweigh(int c, const std::vector<int>& links, const MapTrial& failed,
                 size_t kept, std::vector<int>* passed_over,
                 int challenged = -1);
-  // Part 3's coalition for `links` of `c`, refused against the map: for
-  // the first cluster a of `passed_over` that they outnumber together with
-  // the links that reached the map test of every other refused cluster
-  // whose conflicts name a, and if those links pass the own test together,
-  // Outweigh for all of them, a challenged; returns whether they were
-  // accepted.
+  // Part 3's coalition for `links` (two or more) of `c`, refused against
+  // the map: for the first cluster a of `passed_over` that they outnumber
+  // together with the links that reached the map test (two or more) of
+  // every other refused cluster whose conflicts name a, and if those links
+  // pass the own test together, Outweigh for all of them, a challenged;
+  // returns whether they were accepted.
   bool Rally(int c, const std::vector<int>& links, size_t kept,
              const std::vector<int>& passed_over);
   // Part 4, until nothing changes.

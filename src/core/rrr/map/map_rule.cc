@@ -324,6 +324,7 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
 template <class Pose>
 bool MapVerifier<Pose>::Rally(int c, const std::vector<int>& links, size_t kept,
                               const std::vector<int>& passed_over) {
+  if (links.size() < 2) return false;
   for (const int a : passed_over) {
     std::vector<int> coalition = links;
     for (size_t r = 0; r < records_.size(); ++r) {
@@ -333,11 +334,15 @@ bool MapVerifier<Pose>::Rally(int c, const std::vector<int>& links, size_t kept,
                               a)) {
         continue;
       }
+      std::vector<int> member;
       for (const int loop : clustering_.clusters()[r].loops) {
         const DecisionTest test = reasons_[loop].test;
         if (test == DecisionTest::kMap || test == DecisionTest::kMapLink) {
-          coalition.push_back(loop);
+          member.push_back(loop);
         }
+      }
+      if (member.size() >= 2) {
+        coalition.insert(coalition.end(), member.begin(), member.end());
       }
     }
     if (records_[a].accepted.size() + kept >= coalition.size()) continue;

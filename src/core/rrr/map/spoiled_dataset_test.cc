@@ -170,7 +170,8 @@ TEST_F(StretchOfACity, SetsAsideOnlyTheClustersInTheConflict) {
 // true revisits of those streets that come next (9, 1, 5 and 3 links) are
 // each refused against the map it bent, each with fewer links than the
 // group, so none outweighs it alone (precision 0.985, recall 0.857).
-// Together they outnumber it and agree without it.
+// Together (those of two links or more: 17) they outnumber it and agree
+// without it.
 TEST_F(StretchOfACity, RevisitsOutweighAFalseGroupTogether) {
   const LoopScores scores = ScoreCityStretch(5000, 7499, 250, 6);
   EXPECT_EQ(scores.precision(), 1.0);
