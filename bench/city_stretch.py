@@ -8,7 +8,7 @@ already in the map; on a stretch a self-consistent false group can be the
 first loop joining two streets, so it probes what the map procedure does
 when the false group comes before the evidence against it.
 
-    bench/city_stretch.py [--first 5000] [--last 7499] [--outliers 100 250]
+    bench/city_stretch.py [--dataset city10000] [--first 5000] [--last 7499] [--outliers 100 250]
         [--seeds 1 2 3 4 5 6] [--methods map dcs gnc pcm] [--out bench/out/city_stretch]
 """
 import argparse
@@ -37,6 +37,8 @@ def cut(src, dst, first, last):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--dataset", default="city10000",
+                        help="a synthetic dataset (one chain) to cut instead of city10000")
     parser.add_argument("--first", type=int, default=5000)
     parser.add_argument("--last", type=int, default=7499)
     parser.add_argument("--outliers", nargs="*", type=int, default=[100, 250])
@@ -48,7 +50,7 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     clean = out / "stretch.g2o"
-    cut(common.datasets_dir() / "synthetic" / "city10000.g2o", clean, args.first, args.last)
+    cut(common.datasets_dir() / "synthetic" / f"{args.dataset}.g2o", clean, args.first, args.last)
     rows = []
     for outliers in args.outliers:
         for seed in args.seeds:

@@ -67,14 +67,7 @@ struct MapVerifierStats {
 //     they are the less consistent in the joint solve (RRR's consistency
 //     index: what each brings to the map with the other, over its gate)
 //     and the exchange keeps more links in the map than part 2 alone
-//     would; else they return. A cluster too large for the links to
-//     outweigh alone is challenged by a coalition (Rally): the links with
-//     those of every other cluster refused against the map whose failed
-//     trial strained it, when they have more links, pass the own test
-//     together and, with that cluster alone set aside, this part's rule
-//     (evidence spread over several revisits, each smaller than one false
-//     group). Only clusters of two links or more take part: a single link
-//     has shown no agreement with itself.
+//     would; else they return.
 //  4. The arbiter. After every whole-map minimization (`optimize_every`)
 //     and every reversal, until nothing changes (at most kMostArbiterRounds
 //     rounds), a cluster in doubt is judged again: one whose acceptance no
@@ -176,10 +169,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Records why `loop` is in its state, by `test` of `statistic` over
   // `dof` (the gate and scale in force, and the decision pose).
   void Record(int loop, DecisionTest test, double statistic, int dof);
-  // Accepts `links` (kMap, Δ `statistic`), each cluster's into its record:
-  // with the estimate of the last trial if `from_trial`, else added to the
-  // map.
-  void Accept(const std::vector<int>& links, double statistic, bool from_trial);
+  // Accepts `links` of `c` (kMap, Δ `statistic`): with the estimate of the
+  // last trial if `from_trial`, else added to the map.
+  void Accept(int c, const std::vector<int>& links, double statistic,
+              bool from_trial);
   // Takes accepted cluster `c` out of the map; it is refused until judged
   // again.
   void LeaveMap(int c);
@@ -223,26 +216,12 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // Whether `links` pass at the map's estimate (their error there bounds
   // Δ); sets `*sum` to their error there.
   bool PassAtEstimate(const std::vector<int>& links, double* sum) const;
-  // The accepted clusters whose links' errors `failed` raised, the most
-  // (over their gate) first.
-  std::vector<int> Strained(const MapTrial& failed) const;
-  // Part 3 for `links` of cluster `c` (or of the coalition `c` rallied),
-  // which failed `failed`, of which part 2 keeps `kept`: returns whether
-  // they were accepted in place of accepted clusters with fewer links in
-  // all than the difference, set aside in the order of Strained(failed),
-  // or only `challenged` if that is given. Appends to `*passed_over` (if
-  // given) the strained clusters too large for the links.
+  // Part 3 for `links` of `c`, which failed `failed`, of which part 2 keeps
+  // `kept`: returns whether they were accepted in place of accepted
+  // clusters with fewer links in all than the difference. Records the
+  // clusters the failure strained as c's conflicts (part 4).
   bool Outweigh(int c, const std::vector<int>& links, const MapTrial& failed,
-                size_t kept, std::vector<int>* passed_over,
-                int challenged = -1);
-  // Part 3's coalition for `links` (two or more) of `c`, refused against
-  // the map: for the first cluster a of `passed_over` that they outnumber
-  // together with the links that reached the map test (two or more) of
-  // every other refused cluster whose conflicts name a, and if those links
-  // pass the own test together, Outweigh for all of them, a challenged;
-  // returns whether they were accepted.
-  bool Rally(int c, const std::vector<int>& links, size_t kept,
-             const std::vector<int>& passed_over);
+                size_t kept);
   // Part 4, until nothing changes.
   void Arbitrate();
   // One round of part 4; returns whether it changed a decision.

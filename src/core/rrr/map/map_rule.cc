@@ -170,7 +170,7 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
   double at_estimate = 0.0;
   if (PassAtEstimate(links, &at_estimate)) {
     ++stats_.quick_accepts;
-    Accept(links, at_estimate, false);
+    Accept(c, links, at_estimate, false);
     return;
   }
   MapTrial trial = Test(links, Against::kMap);
@@ -179,25 +179,18 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
     const MapTrial wide =
         Widened(trial, [&](int radius) { return map_->Try(links, radius); });
     if (Passes(wide, Against::kMap)) {
-      Accept(links, wide.increase, true);
+      Accept(c, links, wide.increase, true);
       return;
     }
     trial = Test(links, Against::kMap);
   }
   if (Passes(trial, Against::kMap)) {
-    Accept(links, trial.increase, true);
+    Accept(c, links, trial.increase, true);
     return;
   }
   const MapTrial failed = trial;
   std::vector<int> kept = KeepAgreeing(links, Against::kMap, &trial);
-  std::vector<int>& conflicts = records_[c].conflicts;
-  conflicts = Strained(failed);
-  std::sort(conflicts.begin(), conflicts.end());
-  std::vector<int> passed_over;
-  if (Outweigh(c, links, failed, kept.size(), &passed_over) ||
-      Rally(c, links, kept.size(), passed_over)) {
-    return;
-  }
+  if (Outweigh(c, links, failed, kept.size())) return;
   if (kept.empty()) return;
   // The conflict's trials replaced the one to keep.
   trial = Test(kept, Against::kMap);
@@ -208,11 +201,22 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
     }
     return;
   }
-  Accept(kept, trial.increase, true);
+  Accept(c, kept, trial.increase, true);
 }
 
 template <class Pose>
-std::vector<int> MapVerifier<Pose>::Strained(const MapTrial& failed) const {
+bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
+                                 const MapTrial& failed, size_t kept) {
+  if (!failed.minimize.solved) return false;
+  const int e = Pose::kDof;
+  const auto gate_of = [&](size_t n) {
+    return Gate(Against::kMap, e * static_cast<int>(n));
+  };
+  // RRR's consistency index of the links in the joint solve: what they
+  // bring to the map over their gate.
+  const double theirs = failed.increase / gate_of(links.size());
+  // The accepted clusters whose links' errors the trial raised, the most
+  // (over their gate) first.
   std::vector<std::pair<int, double>> rise;  // (cluster, Δd²)
   for (const auto& l : failed.map_loops) {
     rise.emplace_back(this->cluster_of_loop_[l.loop], l.after - l.before);
@@ -224,33 +228,13 @@ std::vector<int> MapVerifier<Pose>::Strained(const MapTrial& failed) const {
     double sum = 0.0;
     for (; k < rise.size() && rise[k].first == a; ++k) sum += rise[k].second;
     if (sum > 0.0) {
-      strained.emplace_back(
-          sum /
-              Gate(Against::kMap,
-                   Pose::kDof * static_cast<int>(records_[a].accepted.size())),
-          a);
+      strained.emplace_back(sum / gate_of(records_[a].accepted.size()), a);
     }
   }
   std::sort(strained.rbegin(), strained.rend());
-  std::vector<int> clusters(strained.size());
-  std::transform(strained.begin(), strained.end(), clusters.begin(),
-                 [](const auto& s) { return s.second; });
-  return clusters;
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
-                                 const MapTrial& failed, size_t kept,
-                                 std::vector<int>* passed_over,
-                                 int challenged) {
-  if (!failed.minimize.solved) return false;
-  const int e = Pose::kDof;
-  const auto gate_of = [&](size_t n) {
-    return Gate(Against::kMap, e * static_cast<int>(n));
-  };
-  // RRR's consistency index of the links in the joint solve: what they
-  // bring to the map over their gate.
-  const double theirs = failed.increase / gate_of(links.size());
+  std::vector<int>& conflicts = records_[c].conflicts;
+  for (const auto& [strain, a] : strained) conflicts.push_back(a);
+  std::sort(conflicts.begin(), conflicts.end());
   // Set aside in turn while the links do not fit. A cluster whose removal
   // does not lower the links' Δ by more than Significant() is not in the
   // conflict (the failed trial strains the true clusters a false group bent
@@ -263,15 +247,10 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
   size_t removed_links = 0;
   double removed_brought = 0.0;
   double increase = failed.increase;  // Δ(links without R)
-  const std::vector<int> order =
-      challenged >= 0 ? std::vector<int>{challenged} : Strained(failed);
-  for (const int a : order) {
+  for (const auto& [strain, a] : strained) {
     const std::vector<int>& accepted = records_[a].accepted;
     // A reversal must keep more links in the map than part 2 would.
-    if (removed_links + accepted.size() + kept >= links.size()) {
-      if (passed_over) passed_over->push_back(a);
-      continue;
-    }
+    if (removed_links + accepted.size() + kept >= links.size()) continue;
     // Δ(links without R) >= 0 bounds their index from above: once it cannot
     // exceed the links' own, no trial is needed.
     const double brought =
@@ -297,7 +276,7 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
         (removed_brought + failed.increase - without.increase) /
         gate_of(removed_links);
     if (others <= theirs) break;
-    Accept(links, without.increase, true);
+    Accept(c, links, without.increase, true);
     for (const int r : removed) {
       ++stats_.reversals;
       const int dof = e * static_cast<int>(records_[r].accepted.size());
@@ -317,41 +296,6 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
   }
   for (auto it = removed.rbegin(); it != removed.rend(); ++it) {
     map_->Add(records_[*it].accepted, options_.map_radius, Significant());
-  }
-  return false;
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::Rally(int c, const std::vector<int>& links, size_t kept,
-                              const std::vector<int>& passed_over) {
-  if (links.size() < 2) return false;
-  for (const int a : passed_over) {
-    std::vector<int> coalition = links;
-    for (size_t r = 0; r < records_.size(); ++r) {
-      const ClusterRecord& record = records_[r];
-      if (static_cast<int>(r) == c || record.status != Status::kRefused ||
-          !std::binary_search(record.conflicts.begin(), record.conflicts.end(),
-                              a)) {
-        continue;
-      }
-      std::vector<int> member;
-      for (const int loop : clustering_.clusters()[r].loops) {
-        const DecisionTest test = reasons_[loop].test;
-        if (test == DecisionTest::kMap || test == DecisionTest::kMapLink) {
-          member.push_back(loop);
-        }
-      }
-      if (member.size() >= 2) {
-        coalition.insert(coalition.end(), member.begin(), member.end());
-      }
-    }
-    if (records_[a].accepted.size() + kept >= coalition.size()) continue;
-    // Like a cluster's links, the coalition must agree with itself.
-    if (!Passes(Test(coalition, Against::kOdometry), Against::kOdometry)) {
-      return false;
-    }
-    return Outweigh(c, coalition, Test(coalition, Against::kMap), kept, nullptr,
-                    a);
   }
   return false;
 }
@@ -422,7 +366,7 @@ bool MapVerifier<Pose>::ArbitrateOnce() {
       continue;
     }
     ++stats_.rejudged;
-    Accept(grown, sum, false);
+    Accept(c, grown, sum, false);
     changed = true;
   }
   return changed;
@@ -438,13 +382,8 @@ bool MapVerifier<Pose>::ArbitrateOnce() {
       std::vector<int>, Against, MapTrial*);                                   \
   template void MapVerifier<Pose>::JudgeCluster(int);                          \
   template void MapVerifier<Pose>::JudgeAgainstMap(int, std::vector<int>);     \
-  template std::vector<int> MapVerifier<Pose>::Strained(const MapTrial&)       \
-      const;                                                                   \
   template bool MapVerifier<Pose>::Outweigh(int, const std::vector<int>&,      \
-                                            const MapTrial&, size_t,           \
-                                            std::vector<int>*, int);           \
-  template bool MapVerifier<Pose>::Rally(int, const std::vector<int>&, size_t, \
-                                         const std::vector<int>&);             \
+                                            const MapTrial&, size_t);          \
   template void MapVerifier<Pose>::Arbitrate();                                \
   template bool MapVerifier<Pose>::InDoubt(int) const;                         \
   template bool MapVerifier<Pose>::ArbitrateOnce();

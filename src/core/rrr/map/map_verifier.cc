@@ -1,7 +1,6 @@
 #include "rrr/rrr/map/map_verifier.h"
 
 #include <algorithm>
-#include <map>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -275,35 +274,23 @@ void MapVerifier<Pose>::Record(int loop, DecisionTest test, double statistic,
 }
 
 template <class Pose>
-void MapVerifier<Pose>::Accept(const std::vector<int>& links, double statistic,
-                               bool from_trial) {
+void MapVerifier<Pose>::Accept(int c, const std::vector<int>& links,
+                               double statistic, bool from_trial) {
+  ClusterRecord& record = records_[c];
   if (from_trial) {
     map_->KeepTrial(Significant());
   } else {
     map_->Add(links, options_.map_radius, Significant());
   }
-  std::map<int, std::vector<int>> own;  // each cluster's links
-  for (const int loop : links) {
-    own[this->cluster_of_loop_[loop]].push_back(loop);
-  }
+  record.status = Status::kAccepted;
+  record.accepted = links;
+  std::sort(record.accepted.begin(), record.accepted.end());
   const int dof = Pose::kDof * static_cast<int>(links.size());
-  for (auto& [c, accepted] : own) {
-    ClusterRecord& record = records_[c];
-    record.status = Status::kAccepted;
-    std::sort(accepted.begin(), accepted.end());
-    record.accepted = std::move(accepted);
-    for (const int loop : record.accepted) {
-      Record(loop, DecisionTest::kMap, statistic, dof);
-    }
-    // The links' error per dof is the error of all of them per dof.
-    const int n = static_cast<int>(record.accepted.size());
-    scale_.SetClusterSample(
-        c, statistic * (static_cast<double>(n) / links.size()), n);
-    touched_.push_back(c);
-    ++accepted_clusters_;
-    ++accepted_since_optimize_;
-  }
-  if (accepted_since_optimize_ >=
+  for (const int loop : links) Record(loop, DecisionTest::kMap, statistic, dof);
+  scale_.SetClusterSample(c, statistic, static_cast<int>(links.size()));
+  touched_.push_back(c);
+  ++accepted_clusters_;
+  if (++accepted_since_optimize_ >=
       std::max<double>(options_.optimize_every,
                        options_.optimize_growth * accepted_clusters_)) {
     OptimizeMap();

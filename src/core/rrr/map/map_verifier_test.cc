@@ -279,37 +279,6 @@ TEST(MapVerifier, ReversesDecisionsBothWaysOnNewEvidence) {
   EXPECT_EQ(replay.Accepted(), truth);
 }
 
-TEST(MapVerifier, RevisitsEachSmallerThanAFalseGroupOutweighItTogether) {
-  Circle circle;
-  // F, first: five false links that claim lap 2 is ten poses further on.
-  circle.AddLoops(30, kLap + 20, 5, -10);
-  // Then three true revisits of three links each, twenty poses apart: each
-  // fails against the map F bent and has fewer links than F, so none
-  // outweighs it alone (F stays and all nine are refused); together they
-  // have more, agree without F, and F is the less consistent.
-  circle.AddLoops(50, kLap + 50, 3, 0);
-  circle.AddLoops(70, kLap + 70, 3, 0);
-  circle.AddLoops(90, kLap + 90, 3, 0);
-  RrrOptions options;
-  options.noise_scale = 1.0;
-  const Verdict verdict = VerifyWithMap<Pose2>(circle.graph, options);
-  testing::Pairs accepted;
-  for (const int k : verdict.accepted) {
-    const auto& l = circle.graph.loops()[k];
-    accepted.insert({l.from, l.to});
-  }
-  testing::Pairs truth;
-  for (const int a : {50, 70, 90}) {
-    for (int k = 0; k < 3; ++k) truth.insert({a + k, kLap + a + k});
-  }
-  EXPECT_EQ(accepted, truth);
-  for (int k = 0; k < 5; ++k) {
-    const DecisionReason& f = verdict.reasons[k];
-    EXPECT_EQ(f.test, DecisionTest::kOutweighed) << k;
-    EXPECT_GT(f.statistic, f.gate) << k;
-  }
-}
-
 TEST(MapVerifier, DropsTheLinkOfAClusterThatOnlyTheMapRefutes) {
   // Three laps, odometry soft in rotation: lap 2 and lap 3 are tied to lap 1
   // at poses 100-119 and 100-111 (lap-2 links, then lap-3 links, judged
