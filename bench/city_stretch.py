@@ -1,18 +1,21 @@
 #!/usr/bin/python3
 """A stretch of city10000 spoiled with grouped false loops (BENCHMARKS.md,
 "A stretch of city10000 with grouped false loops"): poses FIRST..LAST of
-city10000 with the loops between them (one odometry chain, a quarter of
-the city by default), then `rrr spoil --group 10` for each seed and count.
+city10000 (or of another synthetic dataset of one chain, --dataset) with
+the loops between them (a quarter of the city by default), then `rrr
+spoil --group 10` for each seed and count.
 On the whole city the first revisits of a street come with many loops
 already in the map; on a stretch a self-consistent false group can be the
 first loop joining two streets, so it probes what the map procedure does
 when the false group comes before the evidence against it.
 
     bench/city_stretch.py [--dataset city10000] [--first 5000] [--last 7499] [--outliers 100 250]
-        [--seeds 1 2 3 4 5 6] [--methods map dcs gnc pcm] [--out bench/out/city_stretch]
+        [--seeds 1 2 3 4 5 6] [--methods map dcs gnc pcm]
+        [--out bench/out/city_stretch/DATASET_FIRST_LAST]
 """
 import argparse
 import pathlib
+import sys
 
 import common
 from compare_methods import METHODS
@@ -44,13 +47,17 @@ def main():
     parser.add_argument("--outliers", nargs="*", type=int, default=[100, 250])
     parser.add_argument("--seeds", nargs="*", type=int, default=[1, 2, 3, 4, 5, 6])
     parser.add_argument("--methods", nargs="*", default=["map"], choices=["map", "dcs", "gnc", "pcm"])
-    parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "city_stretch"))
+    parser.add_argument("--out", help="default: bench/out/city_stretch/DATASET_FIRST_LAST")
     args = parser.parse_args()
     common.require_rrr()
-    out = pathlib.Path(args.out)
+    source = common.datasets_dir() / "synthetic" / f"{args.dataset}.g2o"
+    if not source.is_file():
+        sys.exit(f"{source} not found: --dataset names a file of {source.parent} without .g2o")
+    out = pathlib.Path(args.out or common.ROOT / "bench" / "out" / "city_stretch" /
+                       f"{args.dataset}_{args.first}_{args.last}")
     out.mkdir(parents=True, exist_ok=True)
     clean = out / "stretch.g2o"
-    cut(common.datasets_dir() / "synthetic" / f"{args.dataset}.g2o", clean, args.first, args.last)
+    cut(source, clean, args.first, args.last)
     rows = []
     for outliers in args.outliers:
         for seed in args.seeds:
