@@ -52,20 +52,16 @@ def false_revisit(world, first, second, gap, group, offset):
     """The false loops as EDGE_SE2 lines, with the information of the world's
     first loop, and their pose pairs."""
     poses = se2_vertices(world)
-    information = None
-    for line in open(world):
-        fields = line.split()
-        if fields and fields[0] == "EDGE_SE2" and abs(int(fields[2]) - int(fields[1])) > 1:
-            information = fields[6:12]
-            break
+    _, loops = common.loop_lines(world)
+    information = loops[0][1].split()[6:12]
     moved = (offset, 0.0, 0.03 * offset)
-    lines, pairs = [], []
+    lines, pairs = [], set()
     for k in range(group):
         i = first + second + k
         j = i + gap
         z = compose(between(poses[i], poses[j]), moved)
         lines.append(" ".join(["EDGE_SE2", str(i), str(j), *(f"{v:.9g}" for v in z), *information]) + "\n")
-        pairs.append((i, j))
+        pairs.add((i, j))
     return lines, pairs
 
 
@@ -74,13 +70,8 @@ def judged(graph, folder, false_pairs, method):
     on `graph`."""
     folder.mkdir(parents=True, exist_ok=True)
     report, _, _ = common.verify(graph, 10, folder, extra=("--method", method))
-    kept = wrong = 0
-    for a, b in report["accepted"]:
-        if (a, b) in false_pairs or (b, a) in false_pairs:
-            wrong += 1
-        else:
-            kept += 1
-    return kept, wrong
+    wrong = sum(1 for a, b in report["accepted"] if (a, b) in false_pairs or (b, a) in false_pairs)
+    return len(report["accepted"]) - wrong, wrong
 
 
 def main():
@@ -92,7 +83,7 @@ def main():
     parser.add_argument("--offset", nargs="*", type=float, default=[2.0, 3.5])
     parser.add_argument("--group", type=int, default=10)
     parser.add_argument("--methods", nargs="*", default=["rrr"], choices=["rrr", "dcs", "gnc", "pcm"])
-    parser.add_argument("--out", default="bench/out/chain_false_revisit")
+    parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "chain_false_revisit"))
     args = parser.parse_args()
     common.require_rrr()
     out = pathlib.Path(args.out)
@@ -100,39 +91,37 @@ def main():
     rows = []
     for seed in args.seeds:
         world = out / f"world_{seed}.g2o"
-        common.run("simulate", "--poses", str(args.poses), "--false-loops", "0", "--seed", str(seed),
-                   "-o", str(world), "-t", str(out / f"world_{seed}.false"),
-                   "--ground-truth", str(out / f"world_{seed}.gt"))
+        common.run("simulate", "--poses", args.poses, "--false-loops", 0, "--seed", seed, "-o", world,
+                   "-t", out / f"world_{seed}.false", "--ground-truth", out / f"world_{seed}.gt")
         two = out / f"world_{seed}_two.g2o"
         firsts = chains.cut(world, two, 2)
+        texts = {"one": world.read_text(), "two": two.read_text()}
         for second in args.second:
             for gap in args.gap:
                 for offset in args.offset:
                     name = f"{seed}_{second}_{gap}_{offset:g}"
                     lines, pairs = false_revisit(world, firsts[1], second, gap, args.group, offset)
-                    pairs = set(pairs)
+                    graphs = {}
+                    for kind, text in texts.items():
+                        graphs[kind] = out / f"{name}_{kind}.g2o"
+                        graphs[kind].write_text(text + "".join(lines))
                     for method in args.methods:
-                        cells = [method, seed, second, gap, offset]
-                        for kind, source in (("one", world), ("two", two)):
-                            graph = out / f"{name}_{kind}.g2o"
-                            graph.write_text(open(source).read() + "".join(lines))
-                            cells += judged(graph, out / f"{name}_{kind}_{method}", pairs, method)
-                        rows.append(cells)
-                        print(*cells, flush=True)
-    columns = ["method", "seed", "second", "gap", "offset m", "one chain: true kept", "one chain: false accepted",
-               "two sessions: true kept", "two sessions: false accepted"]
-    with open(out / "table.md", "w") as table:
-        table.write("| " + " | ".join(columns) + " |\n")
-        table.write("|" + "---|" * len(columns) + "\n")
-        for cells in rows:
-            table.write("| " + " | ".join(f"{c:g}" if isinstance(c, float) else str(c) for c in cells) + " |\n")
+                        row = dict(method=method, seed=seed, second=second, gap=gap, offset=offset)
+                        for kind, graph in graphs.items():
+                            row[f"{kind}_kept"], row[f"{kind}_false"] = judged(
+                                graph, out / f"{name}_{kind}_{method}", pairs, method)
+                        rows.append(row)
+                        print(*row.values(), flush=True)
     for method in args.methods:
-        mine = [r for r in rows if r[0] == method]
-        worse = sum(1 for r in mine if r[8] > r[6])
-        wrong = sum(1 for r in mine if r[8] > 0)
+        mine = [r for r in rows if r["method"] == method]
+        worse = sum(1 for r in mine if r["two_false"] > r["one_false"])
+        wrong = sum(1 for r in mine if r["two_false"] > 0)
         print(f"{method}: {len(mine)} worlds; false loops accepted in {wrong} as two sessions, "
               f"more than as one chain in {worse}")
-    print(f"wrote {out / 'table.md'}")
+    columns = ["method", "seed", "second", "gap", "offset m", "one chain: true kept", "one chain: false accepted",
+               "two sessions: true kept", "two sessions: false accepted"]
+    common.write_results(out, rows, columns, lambda r: [f"{v:g}" if isinstance(v, float) else str(v)
+                                                        for v in r.values()])
 
 
 if __name__ == "__main__":
