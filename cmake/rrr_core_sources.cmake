@@ -48,6 +48,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/map/verify_with_map.cc
   src/core/fleet/fleet.cc
   src/core/rrr/chains/chains_verifier.cc
+  src/core/rrr/chains/joined_map_review.cc
   src/core/rrr/chains/verify_chains.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc

@@ -48,10 +48,14 @@ enum class DecisionTest {
   // one path of measurements between its ends, which the map's cannot
   // exceed) is over the gate of its dof (VerifyChains, rule 3).
   kMapBound,
+  // A cluster inside a chain against the map that joined its chain with
+  // others: Δ, to first order how much higher that map's minimum is with
+  // its links than without them (e·|S| dof; VerifyChains, rule 5).
+  kJoinedMap,
 };
 
 // "not_judged", "alone", "own_link", "own", "map_link", "map",
-// "outweighed", "join", "apart" or "map_bound".
+// "outweighed", "join", "apart", "map_bound" or "joined_map".
 const char* ToString(DecisionTest test);
 
 // The test that put a candidate in its state, with what it compared.

@@ -46,6 +46,17 @@ class BlockCholesky {
   // Solves A x = rhs. Returns false if A is not positive definite.
   bool Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x);
 
+  // Factorizes A as it is now. Returns false if A is not positive definite.
+  bool Factorize();
+  // Bᵀ A⁻¹ B at the last successful Factorize(), for B zero but in the
+  // block rows `blocks` (distinct), where it is `b`: rows D·i .. D·i+D−1 of
+  // `b` are B's block row blocks[i]. Each column costs a solve on the part
+  // of the factor the column reaches, not on the whole (CHOLMOD's sparse
+  // solve): cheap for a B of few blocks. Changes the factor to simplicial
+  // form if it was supernodal (later factorizations stay simplicial).
+  Eigen::MatrixXd InverseForm(const std::vector<int>& blocks,
+                              const Eigen::MatrixXd& b);
+
  private:
   int num_blocks_;
   std::vector<int> position_;  // permuted position of each block

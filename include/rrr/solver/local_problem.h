@@ -87,6 +87,21 @@ class LocalProblem {
   // Σ w rᵀ Ω r over the problem's edges at `x` (w: their weights).
   double Chi2(const std::vector<Pose>& x) const;
 
+  // At `x`, a minimum of the problem: for each group of edges (indices into
+  // edges(); a group's weights all positive, or all 0), to first order how
+  // much higher the minimum is with the group than without it: by how much
+  // it would fall were a weighted group taken out, or rise were a group of
+  // weight 0 put in at weight 1. That is rᵀ (Σ ∓ J H⁻¹ Jᵀ)⁻¹ r, with r the
+  // group's residuals at `x`, Σ their covariance (the inverse of their
+  // weighted information), J their Jacobians, H the Gauss–Newton matrix at
+  // `x` (the minus for a group in it). Exact for a linear problem; one
+  // factorization of H and, per group, a sparse solve per residual
+  // coordinate. +∞ for a group whose taking out would leave the problem
+  // without a unique minimum. Returns false if H is not positive definite.
+  bool ChangesOfMinimum(const std::vector<Pose>& x,
+                        const std::vector<std::vector<int>>& groups,
+                        std::vector<double>* changes);
+
  private:
   static constexpr int D = Pose::kDof;
   using Block = Eigen::Matrix<double, D, D>;

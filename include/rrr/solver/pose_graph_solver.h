@@ -4,6 +4,7 @@
 #ifndef RRR_SOLVER_POSE_GRAPH_SOLVER_H_
 #define RRR_SOLVER_POSE_GRAPH_SOLVER_H_
 
+#include <memory>
 #include <vector>
 
 #include "rrr/graph/pose_graph.h"
@@ -11,6 +12,9 @@
 #include "rrr/solver/convergence.h"
 
 namespace rrr {
+
+template <class Pose>
+class LocalProblem;
 
 // Least squares on the sparse normal equations (CHOLMOD), with the first pose
 // (and any pose the graph marks fixed) held fixed.
@@ -46,6 +50,16 @@ class PoseGraphSolver : public ConsistencySolver {
                              MinimizeResult* result = nullptr,
                              const std::vector<Pose>* start = nullptr) const;
 
+  // At `x`, a minimum of odometry and `active_loops` (every pose): for each
+  // group of loops (indices into graph.loops(), all active or all not), to
+  // first order how much higher that minimum is with the group than
+  // without it (LocalProblem::ChangesOfMinimum). Returns false if the
+  // problem's Gauss–Newton matrix is not positive definite.
+  bool ChangesOfMinimum(const std::vector<int>& active_loops,
+                        const std::vector<std::vector<int>>& groups,
+                        const std::vector<Pose>& x,
+                        std::vector<double>* changes) const;
+
   // The odometry chain every solve starts from.
   const std::vector<Pose>& initial() const { return initial_; }
   // Errors of odometry and the given loops at estimates `x` (all poses).
@@ -62,6 +76,11 @@ class PoseGraphSolver : public ConsistencySolver {
            const ConvergenceOptions* options, std::vector<Pose>* x,
            MinimizeResult* minimized, int* spanned_edges = nullptr,
            const std::vector<Pose>* start = nullptr) const;
+
+  // The problem of odometry and `loops` over the stretch of chain they span
+  // (its last pose in `*last`), or null if they span none.
+  std::unique_ptr<LocalProblem<Pose>> Problem(const std::vector<int>& loops,
+                                              int* last) const;
 
   const PoseGraph<Pose>& graph_;
   int iterations_;

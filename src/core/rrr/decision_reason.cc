@@ -24,6 +24,8 @@ const char* ToString(DecisionTest test) {
       return "apart";
     case DecisionTest::kMapBound:
       return "map_bound";
+    case DecisionTest::kJoinedMap:
+      return "joined_map";
   }
   return "unknown";
 }

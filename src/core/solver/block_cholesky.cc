@@ -190,24 +190,38 @@ void BlockCholesky<D>::AddOffDiagonal(int slot, int r, int c, const Block& m) {
 }
 
 template <int D>
-bool BlockCholesky<D>::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) {
+bool BlockCholesky<D>::Factorize() {
   const std::unique_lock<std::mutex> lock = LockBlasFor(factor_);
-  if (!cholmod_factorize(matrix_, factor_, common_.get()) ||
-      common_->status == CHOLMOD_NOT_POSDEF) {
-    return false;
-  }
-  for (int b = 0; b < num_blocks_; ++b) {
-    rhs_.template segment<D>(position_[b] * D) = rhs.template segment<D>(b * D);
-  }
+  return cholmod_factorize(matrix_, factor_, common_.get()) &&
+         common_->status != CHOLMOD_NOT_POSDEF;
+}
+
+namespace {
+
+// A view of `values` as a one-column CHOLMOD dense matrix.
+cholmod_dense DenseColumn(Eigen::VectorXd* values) {
   cholmod_dense dense;
-  dense.nrow = rhs_.size();
+  dense.nrow = values->size();
   dense.ncol = 1;
-  dense.nzmax = rhs_.size();
-  dense.d = rhs_.size();
-  dense.x = rhs_.data();
+  dense.nzmax = values->size();
+  dense.d = values->size();
+  dense.x = values->data();
   dense.z = nullptr;
   dense.xtype = CHOLMOD_REAL;
   dense.dtype = CHOLMOD_DOUBLE;
+  return dense;
+}
+
+}  // namespace
+
+template <int D>
+bool BlockCholesky<D>::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) {
+  if (!Factorize()) return false;
+  const std::unique_lock<std::mutex> lock = LockBlasFor(factor_);
+  for (int b = 0; b < num_blocks_; ++b) {
+    rhs_.template segment<D>(position_[b] * D) = rhs.template segment<D>(b * D);
+  }
+  cholmod_dense dense = DenseColumn(&rhs_);
   cholmod_dense* sol = cholmod_solve(CHOLMOD_A, factor_, &dense, common_.get());
   if (!sol) return false;
   const auto* values = static_cast<const double*>(sol->x);
@@ -219,6 +233,53 @@ bool BlockCholesky<D>::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) {
   }
   cholmod_free_dense(&sol, common_.get());
   return x->allFinite();
+}
+
+template <int D>
+Eigen::MatrixXd BlockCholesky<D>::InverseForm(const std::vector<int>& blocks,
+                                              const Eigen::MatrixXd& b) {
+  const int rows = static_cast<int>(blocks.size()) * D;
+  // The rows of B, in the stored (permuted) order.
+  std::vector<int> row(rows);
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    for (int a = 0; a < D; ++a) row[i * D + a] = position_[blocks[i]] * D + a;
+  }
+  cholmod_sparse* set =
+      cholmod_allocate_sparse(rhs_.size(), 1, rows, /*sorted=*/0,
+                              /*packed=*/1, 0, CHOLMOD_PATTERN, common_.get());
+  if (!set) throw std::runtime_error("CHOLMOD could not allocate a pattern");
+  static_cast<int*>(set->p)[0] = 0;
+  static_cast<int*>(set->p)[1] = rows;
+  std::copy(row.begin(), row.end(), static_cast<int*>(set->i));
+  Eigen::MatrixXd form(b.cols(), b.cols());
+  cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
+  cholmod_sparse* x_set = nullptr;
+  rhs_.setZero();
+  cholmod_dense column = DenseColumn(&rhs_);
+  bool solved = true;
+  {
+    const std::unique_lock<std::mutex> lock = LockBlasFor(factor_);
+    for (int j = 0; j < b.cols() && solved; ++j) {
+      for (int r = 0; r < rows; ++r) rhs_[row[r]] = b(r, j);
+      solved = cholmod_solve2(CHOLMOD_A, factor_, &column, set, &x, &x_set, &y,
+                              &e, common_.get());
+      // A⁻¹ B's column j is defined on the rows the solve reached, which
+      // hold B's own.
+      const auto* values = static_cast<const double*>(solved ? x->x : nullptr);
+      for (int i = 0; i < b.cols() && solved; ++i) {
+        double sum = 0.0;
+        for (int r = 0; r < rows; ++r) sum += b(r, i) * values[row[r]];
+        form(i, j) = sum;
+      }
+    }
+  }
+  cholmod_free_dense(&x, common_.get());
+  cholmod_free_dense(&y, common_.get());
+  cholmod_free_dense(&e, common_.get());
+  cholmod_free_sparse(&x_set, common_.get());
+  cholmod_free_sparse(&set, common_.get());
+  if (!solved) throw std::runtime_error("CHOLMOD sparse solve failed");
+  return form;
 }
 
 template class BlockCholesky<3>;

@@ -1,6 +1,9 @@
 #include "rrr/solver/local_problem.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "rrr/geometry/pose2.h"
@@ -236,6 +239,57 @@ double LocalProblem<Pose>::Chi2(const std::vector<Pose>& x) const {
     chi2 += (weights_.empty() ? 1.0 : weights_[k]) * EdgeChi2(*edges_[k], x);
   }
   return chi2;
+}
+
+template <class Pose>
+bool LocalProblem<Pose>::ChangesOfMinimum(
+    const std::vector<Pose>& x, const std::vector<std::vector<int>>& groups,
+    std::vector<double>* changes) {
+  Linearize(x);
+  for (size_t b = 0; b < free_.size(); ++b) {
+    system_->SetDiagonal(static_cast<int>(b), diagonal_[b]);
+  }
+  if (!system_->Factorize()) return false;
+  changes->clear();
+  for (const std::vector<int>& group : groups) {
+    const int m = static_cast<int>(group.size()) * D;
+    Eigen::VectorXd r(m);
+    Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(m, m);
+    // Jᵀ by the free poses the group touches.
+    std::vector<int> blocks;
+    Eigen::MatrixXd jt = Eigen::MatrixXd::Zero(2 * m, m);
+    const auto add = [&](int pose, const Block& j, int column) {
+      const int block = block_of_pose_[pose];
+      if (block < 0) return;
+      const auto at = std::find(blocks.begin(), blocks.end(), block);
+      const int i = static_cast<int>(at - blocks.begin());
+      if (at == blocks.end()) blocks.push_back(block);
+      jt.block<D, D>(i * D, column) += j.transpose();
+    };
+    bool in = false;
+    for (size_t l = 0; l < group.size(); ++l) {
+      const Edge& edge = *edges_[group[l]];
+      const double w = weights_.empty() ? 1.0 : weights_[group[l]];
+      in = w > 0.0;
+      typename Pose::Jacobian ji, jj;
+      r.template segment<D>(l * D) = EdgeResidualAndJacobians(
+          edge.measurement, x[edge.from], x[edge.to], &ji, &jj);
+      covariance.block<D, D>(l * D, l * D) =
+          (in ? w * edge.information : edge.information).inverse();
+      add(edge.from, ji, static_cast<int>(l) * D);
+      add(edge.to, jj, static_cast<int>(l) * D);
+    }
+    const Eigen::MatrixXd form = system_->InverseForm(
+        blocks, jt.topRows(static_cast<int>(blocks.size()) * D));
+    const Eigen::LDLT<Eigen::MatrixXd> s(
+        in ? Eigen::MatrixXd(covariance - form)
+           : Eigen::MatrixXd(covariance + form));
+    const double change = r.dot(s.solve(r));
+    changes->push_back(s.isPositive() && std::isfinite(change)
+                           ? change
+                           : std::numeric_limits<double>::infinity());
+  }
+  return true;
 }
 
 template class LocalProblem<Pose2>;

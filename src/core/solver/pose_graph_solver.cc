@@ -22,6 +22,43 @@ PoseGraphSolver<Pose>::PoseGraphSolver(const PoseGraph<Pose>& graph,
 }
 
 template <class Pose>
+std::unique_ptr<LocalProblem<Pose>> PoseGraphSolver<Pose>::Problem(
+    const std::vector<int>& loops, int* last) const {
+  // The stretch of chain that the loops (and fixed poses) span. The chain
+  // after it hangs free and follows odometry with zero error. The chain
+  // before it is a rigid path from the fixed first pose: relative-pose
+  // errors do not change under a rigid motion of the rest, so every
+  // Gauss–Newton step leaves that path at odometry with zero error, exactly
+  // as if its last pose were fixed.
+  int first = last_fixed_ > 0 ? 0 : graph_.num_poses() - 1;
+  *last = last_fixed_;
+  for (const int k : loops) {
+    const auto& loop = graph_.loops()[k];
+    first = std::min({first, loop.from, loop.to});
+    *last = std::max({*last, loop.from, loop.to});
+  }
+  if (*last <= first) return nullptr;
+  std::vector<int> free;
+  std::vector<bool> fixed(*last - first + 1, false);
+  fixed[0] = true;
+  for (const int k : graph_.fixed()) {
+    if (k >= first && k <= *last) fixed[k - first] = true;
+  }
+  for (int p = first; p <= *last; ++p) {
+    if (!fixed[p - first]) free.push_back(p);
+  }
+  std::vector<const Constraint<Pose>*> edges;
+  for (const auto& e : graph_.odometry()) {
+    if (std::min(e.from, e.to) >= first && std::max(e.from, e.to) <= *last) {
+      edges.push_back(&e);
+    }
+  }
+  for (const int k : loops) edges.push_back(&graph_.loops()[k]);
+  return std::make_unique<LocalProblem<Pose>>(graph_.num_poses(), free,
+                                              std::move(edges));
+}
+
+template <class Pose>
 bool PoseGraphSolver<Pose>::Run(const std::vector<int>& active_loops,
                                 const ConvergenceOptions* options,
                                 std::vector<Pose>* x, MinimizeResult* minimized,
@@ -29,41 +66,16 @@ bool PoseGraphSolver<Pose>::Run(const std::vector<int>& active_loops,
                                 const std::vector<Pose>* start) const {
   *x = start ? *start : initial_;
   if (spanned_edges) *spanned_edges = 0;
-  // The stretch of chain that the active loops (and fixed poses) span. The
-  // chain after it hangs free and follows odometry with zero error. The
-  // chain before it is a rigid path from the fixed first pose: relative-pose
-  // errors do not change under a rigid motion of the rest, so every
-  // Gauss–Newton step leaves that path at odometry with zero error, exactly
-  // as if its last pose were fixed.
-  int first = last_fixed_ > 0 ? 0 : graph_.num_poses() - 1;
-  int last = last_fixed_;
-  for (const int k : active_loops) {
-    const auto& loop = graph_.loops()[k];
-    first = std::min({first, loop.from, loop.to});
-    last = std::max({last, loop.from, loop.to});
-  }
-  if (last <= first) {
+  int last = 0;
+  const std::unique_ptr<LocalProblem<Pose>> made = Problem(active_loops, &last);
+  if (!made) {
     if (minimized) minimized->converged = true;
     return true;
   }
-  std::vector<int> free;
-  std::vector<bool> fixed(last - first + 1, false);
-  fixed[0] = true;
-  for (const int k : graph_.fixed()) {
-    if (k >= first && k <= last) fixed[k - first] = true;
+  LocalProblem<Pose>& problem = *made;
+  if (spanned_edges) {
+    *spanned_edges = static_cast<int>(problem.edges().size());
   }
-  for (int p = first; p <= last; ++p) {
-    if (!fixed[p - first]) free.push_back(p);
-  }
-  std::vector<const Constraint<Pose>*> edges;
-  for (const auto& e : graph_.odometry()) {
-    if (std::min(e.from, e.to) >= first && std::max(e.from, e.to) <= last) {
-      edges.push_back(&e);
-    }
-  }
-  for (const int k : active_loops) edges.push_back(&graph_.loops()[k]);
-  if (spanned_edges) *spanned_edges = static_cast<int>(edges.size());
-  LocalProblem<Pose> problem(graph_.num_poses(), free, std::move(edges));
   if (options) {
     *minimized = problem.Minimize(x, *options);
     if (!minimized->solved) return false;
@@ -86,6 +98,42 @@ bool PoseGraphSolver<Pose>::Run(const std::vector<int>& active_loops,
     (*x)[p] = (*x)[last] * initial_[last].between(initial_[p]);
   }
   return true;
+}
+
+template <class Pose>
+bool PoseGraphSolver<Pose>::ChangesOfMinimum(
+    const std::vector<int>& active_loops,
+    const std::vector<std::vector<int>>& groups, const std::vector<Pose>& x,
+    std::vector<double>* changes) const {
+  std::vector<int> loops = active_loops;
+  std::vector<int> edge_of_loop(graph_.loops().size(), -1);
+  for (size_t k = 0; k < active_loops.size(); ++k) {
+    edge_of_loop[active_loops[k]] = static_cast<int>(k);
+  }
+  for (const std::vector<int>& group : groups) {
+    for (const int k : group) {
+      if (edge_of_loop[k] >= 0) continue;
+      edge_of_loop[k] = static_cast<int>(loops.size());
+      loops.push_back(k);
+    }
+  }
+  int last = 0;
+  const std::unique_ptr<LocalProblem<Pose>> problem = Problem(loops, &last);
+  if (!problem) return false;
+  // The problem's edges: its odometry, then `loops`, the inactive at 0.
+  const int odometry = static_cast<int>(problem->edges().size() - loops.size());
+  std::vector<double> weights(problem->edges().size(), 1.0);
+  std::fill(weights.begin() + odometry + active_loops.size(), weights.end(),
+            0.0);
+  problem->SetWeights(std::move(weights));
+  std::vector<std::vector<int>> edge_groups;
+  for (const std::vector<int>& group : groups) {
+    edge_groups.emplace_back();
+    for (const int k : group) {
+      edge_groups.back().push_back(odometry + edge_of_loop[k]);
+    }
+  }
+  return problem->ChangesOfMinimum(x, edge_groups, changes);
 }
 
 template <class Pose>

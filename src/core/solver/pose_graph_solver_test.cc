@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <numeric>
 #include <random>
@@ -11,6 +12,7 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
+#include "rrr/sim/simulated_world.h"
 #include "rrr/solver/edge_error.h"
 #include "rrr/solver/solve_in_parallel.h"
 
@@ -286,6 +288,65 @@ TEST(PoseGraphSolver, CountsTheEdgesTheActiveLoopsSpan) {
   EXPECT_EQ(solver.Solve({0}).num_spanned_edges, 10 + 1);
   EXPECT_EQ(solver.Solve({0, 1}).num_spanned_edges, 10 + 2);
   EXPECT_EQ(solver.Solve({0, 1}).num_edges, 10 + 2);
+}
+
+TEST(PoseGraphSolver, ChangesOfMinimumAreWhatMinimizingWithAndWithoutGives) {
+  // A simulated city whose loops are true, and a false revisit of 5 links
+  // that the odometry's drift could explain (1 m and 0.03 rad off).
+  WorldOptions options;
+  options.poses = 600;
+  options.false_loops = 0;
+  options.seed = 2;
+  const SimulatedWorld world = SimulateWorld(options);
+  PoseGraph<Pose2> g = world.graph;
+  const int true_loops = static_cast<int>(g.loops().size());
+  ASSERT_GT(true_loops, 10);
+  std::vector<int> revisit;
+  for (int k = 0; k < 5; ++k) {
+    Constraint<Pose2> e = g.loops().front();
+    e.from = 300 + k;
+    e.to = 500 + k;
+    e.measurement =
+        world.truth[e.from].between(world.truth[e.to]) * Pose2(1.0, 0.0, 0.03);
+    g.AddEdge(e);
+    revisit.push_back(true_loops + k);
+  }
+  std::vector<int> true_ones(true_loops);
+  std::iota(true_ones.begin(), true_ones.end(), 0);
+  std::vector<int> all = true_ones;
+  all.insert(all.end(), revisit.begin(), revisit.end());
+  const std::vector<int> some_true = {0, 1, 2};
+  const PoseGraphSolver<Pose2> solver(g, 1);
+  const auto minimum = [&](const std::vector<int>& loops,
+                           const std::vector<Pose2>* start = nullptr) {
+    MinimizeResult result;
+    const std::vector<Pose2> x =
+        solver.Optimize(loops, ConvergenceOptions(), &result, start);
+    return std::pair(x, result.final_chi2);
+  };
+  const auto without = [](std::vector<int> loops, const std::vector<int>& out) {
+    for (const int k : out)
+      loops.erase(std::find(loops.begin(), loops.end(), k));
+    return loops;
+  };
+  const auto [with_all, chi2_all] = minimum(all);
+  const auto [with_true, chi2_true] = minimum(true_ones);
+  // Taken out of the map with every loop: the revisit and three true loops.
+  std::vector<double> changes;
+  ASSERT_TRUE(
+      solver.ChangesOfMinimum(all, {revisit, some_true}, with_all, &changes));
+  ASSERT_EQ(changes.size(), 2u);
+  const double revisit_out = chi2_all - minimum(true_ones, &with_all).second;
+  const double true_out =
+      chi2_all - minimum(without(all, some_true), &with_all).second;
+  EXPECT_NEAR(changes[0], revisit_out, 0.05 * revisit_out);
+  EXPECT_NEAR(changes[1], true_out, 0.05 * true_out + 0.1);
+  // The revisit costs far more than three true loops do.
+  EXPECT_GT(changes[0], 10.0 * changes[1]);
+  // Put into the map of the true loops: what it would bring.
+  ASSERT_TRUE(
+      solver.ChangesOfMinimum(true_ones, {revisit}, with_true, &changes));
+  EXPECT_NEAR(changes[0], chi2_all - chi2_true, 0.05 * (chi2_all - chi2_true));
 }
 
 TEST(PoseGraphSolver, HoldsFixedPoses) {

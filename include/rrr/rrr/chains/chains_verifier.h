@@ -33,8 +33,10 @@ struct ChainPose {
 // changed: so a join is reversed when later evidence contradicts it (a join
 // on more evidence, made first, puts the chains in one map that refutes
 // it). Until two clusters join a pair, its loops stay pending (nothing can
-// confirm them yet); Finish() refuses them (test "apart"). After Finish()
-// the decisions are those of VerifyChains on Graph().
+// confirm them yet). Finish() runs rules 1–5 (JudgeChains): it refuses them
+// (test "apart"), and its decisions over a chain's own loops where rule 5
+// changed them stand in for the chain's. After Finish() the decisions are
+// those of VerifyChains on Graph().
 template <class Pose>
 class ChainsVerifier {
  public:
@@ -120,7 +122,11 @@ class ChainsVerifier {
     int own = -1;      // candidate number in its chain's verifier, if inside
     int between = -1;  // index into between_, if between chains
     LoopState state = LoopState::kPending;
-    DecisionReason reason;  // between chains (inside: the chain's)
+    // Inside a chain whose decision Finish() took from rules 1–5 where they
+    // differ from the chain's own (rule 5 refuted it, or judged its chain
+    // again without what it refuted).
+    bool overruled = false;
+    DecisionReason reason;  // between chains or overruled (else the chain's)
   };
   struct Between {
     int candidate;
@@ -141,8 +147,8 @@ class ChainsVerifier {
   // The graph as it is and each chain's own decisions and map.
   Judgement Snapshot();
   // Sets the states of the loops between chains that `j` judged and the
-  // chains' frames; with `finish`, loops apart are refused and the maps
-  // minimized.
+  // chains' frames; with `finish`, loops apart are refused, and a chain's
+  // own loops take the states `j` gives them.
   void Apply(Judgement j, bool finish, std::vector<DecisionChange>* changes);
   void SetState(int candidate, LoopState state,
                 std::vector<DecisionChange>* changes);

@@ -67,6 +67,19 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //  4. Joined pairs make joined maps (chains joined through a third are in
 //     one map). Every map is minimized with its accepted loops. Loops
 //     between chains never joined are refused (test "apart").
+//  5. A chain judged alone accepts what its odometry cannot refute: a false
+//     revisit that its drift explains bends its map, and the loops between
+//     chains that the bent map refutes are refused in its favour. So the
+//     clusters inside chains are judged again against each joined map with
+//     every accepted loop, as RRR's joint test judges clusters: Δ, how much
+//     higher the map's minimum is with a cluster's links than without them
+//     (to first order at that minimum, from one factorization of the map:
+//     rᵀ(Σ − J H⁻¹ Jᵀ)⁻¹ r), over the gate of its dof at its chain's scale
+//     (test "joined_map"). The cluster most over its gate is taken out and
+//     the map minimized again, while any is; then one taken out that now
+//     fits is put back. If any stays out, its chain is judged alone again
+//     without it (what it had bent is judged afresh) and rules 1–5 run
+//     again, until they refute the same loops as before.
 // Gates use the larger of the two chains' final noise scales (group scale
 // for clusters, map scale for one link). A graph of one chain is judged by
 // VerifyWithMap itself. `stats`, if given, sums the chains' statistics.
@@ -84,6 +97,16 @@ struct ChainAlone {
   std::vector<Pose> map;    // its poses, in its own frame
   MapVerifierStats stats;
 };
+
+// Rules 1–5 of VerifyChains over the chains of `graph` (ChainSpansOf), each
+// judged alone already (`alone`, by chain, as VerifyChains judges them: every
+// loop inside it): the verdict over every loop and the maps, minimized.
+// `stats`, if given, sums the chains' statistics.
+template <class Pose>
+ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
+                                std::vector<ChainAlone<Pose>> alone,
+                                const RrrOptions& options,
+                                MapVerifierStats* stats = nullptr);
 
 // Rules 1–3 of VerifyChains over the chains of `graph` (ChainSpansOf), each
 // judged alone already (`alone`, by chain; a loop pending there is counted

@@ -116,7 +116,8 @@ int ChainsVerifier<Pose>::num_in_state(LoopState state) const {
 template <class Pose>
 DecisionReason ChainsVerifier<Pose>::reason(int candidate) const {
   const Candidate& c = candidates_.at(candidate);
-  return c.own >= 0 ? chains_[c.a.chain]->reason(c.own) : c.reason;
+  return c.own >= 0 && !c.overruled ? chains_[c.a.chain]->reason(c.own)
+                                    : c.reason;
 }
 
 template <class Pose>
@@ -250,7 +251,7 @@ std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
   }
   if (finish) {
     Judgement now = Snapshot();
-    now.verdict = JudgeBetweenChains(now.graph, now.alone, options_);
+    now.verdict = JudgeChains(now.graph, now.alone, options_);
     Apply(std::move(now), true, &changes);
     between_changed_ = false;
   } else if (between_changed_ && !running_.valid()) {
@@ -298,6 +299,19 @@ void ChainsVerifier<Pose>::Apply(Judgement j, bool finish,
   ChainsVerdict<Pose>& judged = j.verdict;
   std::vector<bool> accepted(j.graph.loops().size(), false);
   for (const int k : judged.verdict.accepted) accepted[k] = true;
+  for (int k = 0; k < j.first_between; ++k) {
+    Candidate& c = candidates_[j.candidate_of_loop[k]];
+    const LoopState own = chains_[c.a.chain]->state(c.own);
+    c.overruled =
+        finish && (accepted[k] != (own == LoopState::kAccepted) ||
+                   judged.verdict.reasons[k].test == DecisionTest::kJoinedMap);
+    if (c.overruled) c.reason = judged.verdict.reasons[k];
+    SetState(j.candidate_of_loop[k],
+             c.overruled
+                 ? (accepted[k] ? LoopState::kAccepted : LoopState::kRejected)
+                 : own,
+             changes);
+  }
   for (size_t k = j.first_between; k < j.graph.loops().size(); ++k) {
     Candidate& c = candidates_[j.candidate_of_loop[k]];
     c.reason = judged.verdict.reasons[k];
@@ -315,7 +329,6 @@ void ChainsVerifier<Pose>::Apply(Judgement j, bool finish,
       if (judged.map_of_chain[c] == m) frames_[c] = frames[c];
     }
   }
-  if (finish) MinimizeMaps(j.graph, judged.verdict.accepted, &judged);
   judged_ = std::move(judged);
 }
 

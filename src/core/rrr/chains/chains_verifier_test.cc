@@ -22,6 +22,7 @@ using testing::ChainWorldOptions;
 using testing::CutAt;
 using testing::Grid;
 using testing::ThreeSessionsWithAFalseJoin;
+using testing::TwoSessionsWithAFalseRevisit;
 using testing::TwoSessionsWithFalseLoops;
 
 using Changes = std::vector<DecisionChange>;
@@ -214,6 +215,42 @@ TEST(ChainsVerifier, InTheBackgroundItDecidesAtFinishAsAtOnce) {
   for (size_t loop = true_loops; loop < candidate_of_loop.size(); ++loop) {
     EXPECT_NE(verifier.state(candidate_of_loop[loop]), LoopState::kAccepted);
   }
+}
+
+TEST(ChainsVerifier, FinishRefutesAFalseRevisitInsideARobotAsVerifyChainsDoes) {
+  // The second robot's own verifier accepts a false revisit that its drift
+  // explains; Finish() judges its clusters again against the joined map
+  // (rule 5) and overrules it, as VerifyChains does.
+  const SimulatedWorld world = SimulateWorld(Grid(1600, 4));
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> two =
+      TwoSessionsWithAFalseRevisit(world, 800, &true_loops);
+  ChainsVerifier<Pose2> verifier(ChainWorldOptions());
+  const std::vector<int> candidate_of_loop = FeedSideBySide(two, &verifier, 10);
+  verifier.Update();
+  int accepted_by_robot = 0;
+  for (size_t loop = true_loops; loop < two.loops().size(); ++loop) {
+    accepted_by_robot +=
+        verifier.state(candidate_of_loop[loop]) == LoopState::kAccepted;
+  }
+  ASSERT_GT(accepted_by_robot, 0);
+  const Changes changes = verifier.Finish();
+  EXPECT_EQ(Accepted(verifier), AcceptedByVerifyChains(verifier));
+  for (size_t loop = true_loops; loop < two.loops().size(); ++loop) {
+    const int candidate = candidate_of_loop[loop];
+    EXPECT_EQ(verifier.state(candidate), LoopState::kRejected);
+  }
+  int overruled = 0;
+  for (const DecisionChange& change : changes) {
+    if (change.previous != LoopState::kAccepted ||
+        change.current != LoopState::kRejected ||
+        verifier.reason(change.candidate).test != DecisionTest::kJoinedMap) {
+      continue;
+    }
+    ++overruled;
+    EXPECT_EQ(verifier.from(change.candidate).chain, 1);
+  }
+  EXPECT_GT(overruled, 0);
 }
 
 TEST(ChainsVerifier, CandidatesBetweenChainsWaitForTheirPosesOrAreRefused) {

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
+#include <set>
 #include <tuple>
 #include <utility>
 
+#include "joined_map_review.h"
 #include "pair_judge.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -13,6 +15,31 @@
 #include "rrr/rrr/map/verify_with_map.h"
 
 namespace rrr {
+
+namespace {
+
+// Chain `span` of `graph` judged alone by the map procedure, as if it were
+// the whole graph, without the loops `left_out` (ascending).
+template <class Pose>
+ChainAlone<Pose> JudgeAlone(const PoseGraph<Pose>& graph, const ChainSpan& span,
+                            const std::vector<int>& left_out,
+                            const RrrOptions& options) {
+  ChainAlone<Pose> alone;
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    if (span.Holds(e.from) && span.Holds(e.to) &&
+        !std::binary_search(left_out.begin(), left_out.end(),
+                            static_cast<int>(k))) {
+      alone.inside.push_back(static_cast<int>(k));
+    }
+  }
+  const PoseGraph<Pose> one =
+      SubGraph(graph, {span}, graph.estimates(), alone.inside);
+  alone.verdict = VerifyWithMap(one, options, &alone.map, &alone.stats);
+  return alone;
+}
+
+}  // namespace
 
 template <class Pose>
 ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
@@ -27,25 +54,71 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
     return out;
   }
   // Each chain alone, as if it were the whole graph.
-  std::vector<ChainAlone<Pose>> alone(chains.size());
-  for (size_t k = 0; k < graph.loops().size(); ++k) {
-    const auto& e = graph.loops()[k];
-    const int a = ChainHolding(chains, e.from);
-    if (a == ChainHolding(chains, e.to)) {
-      alone[a].inside.push_back(static_cast<int>(k));
+  std::vector<ChainAlone<Pose>> alone;
+  for (const ChainSpan& span : chains) {
+    alone.push_back(JudgeAlone(graph, span, {}, options));
+  }
+  return JudgeChains(graph, std::move(alone), options, stats);
+}
+
+template <class Pose>
+ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
+                                std::vector<ChainAlone<Pose>> alone,
+                                const RrrOptions& options,
+                                MapVerifierStats* stats) {
+  const std::vector<ChainSpan> chains = ChainSpansOf(graph);
+  // The loops rule 5 refuted, with the sets of them already judged (rules
+  // 1–5 over chains judged alone without those loops), so that the rounds
+  // end even were rule 5 to come back to a set.
+  std::vector<RefutedGroup> refuted;
+  std::set<std::vector<int>> tried;
+  const auto loops_of = [](const std::vector<RefutedGroup>& groups) {
+    std::vector<int> loops;
+    for (const RefutedGroup& g : groups) {
+      loops.insert(loops.end(), g.loops.begin(), g.loops.end());
+    }
+    std::sort(loops.begin(), loops.end());
+    return loops;
+  };
+  for (;;) {
+    ChainsVerdict<Pose> out = JudgeBetweenChains(graph, alone, options, stats);
+    // Rule 4: each map, in the frame of its lowest chain, minimized with its
+    // accepted loops.
+    MinimizeMaps(graph, out.verdict.accepted, &out);
+    // Rule 5.
+    tried.insert(loops_of(refuted));
+    std::vector<RefutedGroup> next =
+        ReviewJoinedMaps(graph, out, alone, refuted, options);
+    const std::vector<int> next_loops = loops_of(next);
+    if (tried.count(next_loops)) {
+      // The groups as last weighed if the same loops, else as refuted.
+      if (next_loops == loops_of(refuted)) refuted = std::move(next);
+      for (const RefutedGroup& g : refuted) {
+        for (const int k : g.loops) {
+          out.verdict.rejected.push_back(k);
+          out.verdict.reasons[k] = g.reason;
+        }
+      }
+      std::sort(out.verdict.rejected.begin(), out.verdict.rejected.end());
+      return out;
+    }
+    // Each chain whose refuted loops changed, judged alone again without
+    // them.
+    const std::vector<int> before = loops_of(refuted);
+    refuted = std::move(next);
+    for (size_t c = 0; c < chains.size(); ++c) {
+      const auto of_chain = [&](const std::vector<int>& loops) {
+        std::vector<int> in;
+        for (const int k : loops) {
+          if (chains[c].Holds(graph.loops()[k].from)) in.push_back(k);
+        }
+        return in;
+      };
+      const std::vector<int> now = of_chain(next_loops);
+      if (of_chain(before) == now) continue;
+      alone[c] = JudgeAlone(graph, chains[c], now, options);
     }
   }
-  for (size_t c = 0; c < chains.size(); ++c) {
-    const PoseGraph<Pose> one =
-        SubGraph(graph, {chains[c]}, graph.estimates(), alone[c].inside);
-    alone[c].verdict =
-        VerifyWithMap(one, options, &alone[c].map, &alone[c].stats);
-  }
-  ChainsVerdict<Pose> out = JudgeBetweenChains(graph, alone, options, stats);
-  // Rule 4: each map, in the frame of its lowest chain, minimized with its
-  // accepted loops.
-  MinimizeMaps(graph, out.verdict.accepted, &out);
-  return out;
 }
 
 template <class Pose>
@@ -213,6 +286,12 @@ template ChainsVerdict<Pose2> VerifyChains(const PoseGraph<Pose2>&,
 template ChainsVerdict<Pose3> VerifyChains(const PoseGraph<Pose3>&,
                                            const RrrOptions&,
                                            MapVerifierStats*);
+template ChainsVerdict<Pose2> JudgeChains(const PoseGraph<Pose2>&,
+                                          std::vector<ChainAlone<Pose2>>,
+                                          const RrrOptions&, MapVerifierStats*);
+template ChainsVerdict<Pose3> JudgeChains(const PoseGraph<Pose3>&,
+                                          std::vector<ChainAlone<Pose3>>,
+                                          const RrrOptions&, MapVerifierStats*);
 template ChainsVerdict<Pose2> JudgeBetweenChains(
     const PoseGraph<Pose2>&, const std::vector<ChainAlone<Pose2>>&,
     const RrrOptions&, MapVerifierStats*);
