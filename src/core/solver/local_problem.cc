@@ -257,7 +257,7 @@ bool LocalProblem<Pose>::ChangesOfMinimum(
     Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(m, m);
     // Jᵀ by the free poses the group touches.
     std::vector<int> blocks;
-    Eigen::MatrixXd jt = Eigen::MatrixXd::Zero(2 * m, m);
+    Eigen::MatrixXd jt = Eigen::MatrixXd::Zero(2 * Eigen::Index{m}, m);
     const auto add = [&](int pose, const Block& j, int column) {
       const int block = block_of_pose_[pose];
       if (block < 0) return;

@@ -40,12 +40,8 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
     for (int c = 0; c < num_chains; ++c) {
       if (judged.map_of_chain[c] == m) spans.push_back(judged.chains[c]);
     }
-    if (spans.size() < 2) {
-      for (const RefutedGroup& g : refuted) {
-        if (judged.map_of_chain[g.chain] == m) out.push_back(g);
-      }
-      continue;
-    }
+    // A chain in no joined map has nothing to refute its clusters with.
+    if (spans.size() < 2) continue;
     // The map's accepted loops, then those refuted before, as loops of its
     // own graph; its clusters inside chains, in and out.
     std::vector<int> loops;
@@ -97,6 +93,7 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
       return active;
     };
     std::vector<std::vector<int>> groups;
+    groups.reserve(weighed.size());
     for (const Weighed& w : weighed) groups.push_back(w.group.loops);
     for (;;) {
       std::vector<double> changes;

@@ -29,7 +29,8 @@ struct RefutedGroup {
 // its gate, the one most over it (Δ / gate) is taken out and the map
 // minimized again; while none is, one of those taken out (`refuted` given,
 // or taken out now) whose Δ back in is under its gate, the least over it
-// first, is put back (once each). Returns the groups left out.
+// first, is put back (once each). Returns the groups left out; those of
+// `refuted` whose chain is in no joined map now are not among them.
 template <class Pose>
 std::vector<RefutedGroup> ReviewJoinedMaps(
     const PoseGraph<Pose>& graph, const ChainsVerdict<Pose>& judged,

@@ -55,6 +55,7 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
   }
   // Each chain alone, as if it were the whole graph.
   std::vector<ChainAlone<Pose>> alone;
+  alone.reserve(chains.size());
   for (const ChainSpan& span : chains) {
     alone.push_back(JudgeAlone(graph, span, {}, options));
   }
