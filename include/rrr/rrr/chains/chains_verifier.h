@@ -28,27 +28,29 @@ struct ChainPose {
 // Judges the loop candidates of several chains as they arrive. Each chain's
 // own loops are judged by its own MapVerifier, exactly as if the chain were
 // the whole graph. The loops between chains are judged by VerifyChains'
-// rules 1–3 (JudgeBetweenChains) over the graph as it is, again at every
-// Update() after which a chain's decisions, or the loops between chains,
-// changed: so a join is reversed when later evidence contradicts it (a join
-// on more evidence, made first, puts the chains in one map that refutes
-// it). Until two clusters join a pair, its loops stay pending (nothing can
-// confirm them yet). Finish() runs rules 1–5 (JudgeChains): it refuses them
-// (test "apart"), and its decisions over a chain's own loops where rule 5
-// changed them stand in for the chain's. After Finish() the decisions are
-// those of VerifyChains on Graph().
+// rules 1–5 (JudgeChains) over the graph as it is, again at every Update()
+// after which a chain's decisions, or the loops between chains, changed: so
+// a join is reversed when later evidence contradicts it (a join on more
+// evidence, made first, puts the chains in one map that refutes it), and a
+// chain's own cluster that a joined map refutes (rule 5) is refused in
+// place of the chain's decision until a later run no longer refutes it.
+// Until two clusters join a pair, its loops stay pending (nothing can
+// confirm them yet). Finish() runs rules 1–5 once more: it refuses them
+// (test "apart"), and its decisions over a chain's own loops, where they
+// differ from the chain's, stand in for the chain's. After Finish() the
+// decisions are those of VerifyChains on Graph().
 template <class Pose>
 class ChainsVerifier {
  public:
   using Information = typename Constraint<Pose>::Information;
 
-  // With `in_background`, rules 1–3 run on a thread of their own over a
+  // With `in_background`, rules 1–5 run on a thread of their own over a
   // copy of the graph taken at an update, and their decisions are taken at
   // the first update after they end (meanwhile updates take the chains' own
-  // decisions, and a change that calls for rules 1–3 again runs them once
+  // decisions, and a change that calls for rules 1–5 again runs them once
   // the running ones end): an update then costs what the chains' own
   // decisions cost, and decisions between chains come later than without,
-  // by how long rules 1–3 take. Finish() waits for them and runs them once
+  // by how long rules 1–5 take. Finish() waits for them and runs them once
   // more, so its decisions are the same either way. Throws
   // std::invalid_argument if `options` do not validate.
   explicit ChainsVerifier(const RrrOptions& options,
@@ -134,7 +136,7 @@ class ChainsVerifier {
     Information information;
   };
 
-  // Rules 1–3 over a copy of the graph: what they judge, and their verdict.
+  // Rules 1–5 over a copy of the graph: what they judge, and their verdict.
   struct Judgement {
     PoseGraph<Pose> graph;               // Graph() at the copy
     std::vector<int> candidate_of_loop;  // of graph's loops
@@ -147,8 +149,9 @@ class ChainsVerifier {
   // The graph as it is and each chain's own decisions and map.
   Judgement Snapshot();
   // Sets the states of the loops between chains that `j` judged and the
-  // chains' frames; with `finish`, loops apart are refused, and a chain's
-  // own loops take the states `j` gives them.
+  // chains' frames, and refuses the chains' own loops that rule 5 refuted;
+  // with `finish`, loops apart are refused, and a chain's own loops take
+  // the states `j` gives them.
   void Apply(Judgement j, bool finish, std::vector<DecisionChange>* changes);
   void SetState(int candidate, LoopState state,
                 std::vector<DecisionChange>* changes);
@@ -162,8 +165,8 @@ class ChainsVerifier {
   std::vector<std::vector<int>> candidate_of_own_;
   std::vector<Candidate> candidates_;
   std::vector<Between> between_;
-  bool between_changed_ = false;    // rules 1–3 must run again
-  std::future<Judgement> running_;  // rules 1–3 in the background
+  bool between_changed_ = false;    // rules 1–5 must run again
+  std::future<Judgement> running_;  // rules 1–5 in the background
   int num_ready_judged_ = 0;        // loops between chains it took
   ChainsVerdict<Pose> judged_;      // its last result (pairs, maps)
   std::vector<Pose> frames_;        // each chain's frame in its map's

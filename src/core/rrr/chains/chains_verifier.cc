@@ -229,8 +229,10 @@ std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
     MapVerifier<Pose>& chain = *chains_[c];
     for (const DecisionChange& change :
          finish ? chain.Finish() : chain.Update()) {
-      SetState(candidate_of_own_[c][change.candidate], change.current,
-               &changes);
+      const int candidate = candidate_of_own_[c][change.candidate];
+      if (!candidates_[candidate].overruled) {
+        SetState(candidate, change.current, &changes);
+      }
       between_changed_ = between_changed_ || !between_.empty();
     }
   }
@@ -242,7 +244,7 @@ std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
   }
   if (ready != num_ready_judged_) between_changed_ = true;
   num_ready_judged_ = ready;
-  // Rules 1–3 that ran in the background: their decisions now (at Finish()
+  // Rules 1–5 that ran in the background: their decisions now (at Finish()
   // they are judged again at once).
   if (running_.valid() && (finish || running_.wait_for(std::chrono::seconds(
                                          0)) == std::future_status::ready)) {
@@ -260,11 +262,11 @@ std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
     if (in_background_) {
       running_ = std::async(std::launch::async, [j = std::move(now),
                                                  options = options_]() mutable {
-        j.verdict = JudgeBetweenChains(j.graph, j.alone, options);
+        j.verdict = JudgeChains(j.graph, j.alone, options);
         return std::move(j);
       });
     } else {
-      now.verdict = JudgeBetweenChains(now.graph, now.alone, options_);
+      now.verdict = JudgeChains(now.graph, now.alone, options_);
       Apply(std::move(now), false, &changes);
     }
   }
@@ -302,9 +304,10 @@ void ChainsVerifier<Pose>::Apply(Judgement j, bool finish,
   for (int k = 0; k < j.first_between; ++k) {
     Candidate& c = candidates_[j.candidate_of_loop[k]];
     const LoopState own = chains_[c.a.chain]->state(c.own);
-    c.overruled =
-        finish && (accepted[k] != (own == LoopState::kAccepted) ||
-                   judged.verdict.reasons[k].test == DecisionTest::kJoinedMap);
+    // Before Finish() only rule 5's refutations stand in for the chain's
+    // decisions: the chain's other decisions may be newer than `j`.
+    c.overruled = judged.verdict.reasons[k].test == DecisionTest::kJoinedMap ||
+                  (finish && accepted[k] != (own == LoopState::kAccepted));
     if (c.overruled) c.reason = judged.verdict.reasons[k];
     SetState(j.candidate_of_loop[k],
              c.overruled
