@@ -251,28 +251,43 @@ Eigen::MatrixXd BlockCholesky<D>::InverseForm(const std::vector<int>& blocks,
   static_cast<int*>(set->p)[0] = 0;
   static_cast<int*>(set->p)[1] = rows;
   std::copy(row.begin(), row.end(), static_cast<int*>(set->i));
-  Eigen::MatrixXd form(b.cols(), b.cols());
+  // Bᵀ A⁻¹ B = (L⁻¹B)ᵀ D⁻¹ (L⁻¹B) for A = L D Lᵀ (D = I for L Lᵀ): each
+  // column of L⁻¹B is nonzero only on the rows B's rows reach through the
+  // elimination tree, the same for every column.
   cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
   cholmod_sparse* x_set = nullptr;
   rhs_.setZero();
   cholmod_dense column = DenseColumn(&rhs_);
+  Eigen::MatrixXd reached;  // L⁻¹B on the rows reached
+  Eigen::VectorXd pivots;   // D on those rows
   bool solved = true;
   {
     const std::unique_lock<std::mutex> lock = LockBlasFor(factor_);
     for (int j = 0; j < b.cols() && solved; ++j) {
       for (int r = 0; r < rows; ++r) rhs_[row[r]] = b(r, j);
-      solved = cholmod_solve2(CHOLMOD_A, factor_, &column, set, &x, &x_set, &y,
+      solved = cholmod_solve2(CHOLMOD_L, factor_, &column, set, &x, &x_set, &y,
                               &e, common_.get());
-      // A⁻¹ B's column j is defined on the rows the solve reached, which
-      // hold B's own.
-      const auto* values = static_cast<const double*>(solved ? x->x : nullptr);
-      for (int i = 0; i < b.cols() && solved; ++i) {
-        double sum = 0.0;
-        for (int r = 0; r < rows; ++r) sum += b(r, i) * values[row[r]];
-        form(i, j) = sum;
+      if (!solved) break;
+      const int reach = static_cast<int*>(x_set->p)[1];
+      const auto* at = static_cast<const int*>(x_set->i);
+      const auto* values = static_cast<const double*>(x->x);
+      if (j == 0) {
+        reached.resize(reach, b.cols());
+        pivots.resize(reach);
+        const auto* lp = static_cast<const int*>(factor_->p);
+        const auto* lx = static_cast<const double*>(factor_->x);
+        for (int k = 0; k < reach; ++k) {
+          pivots[k] = factor_->is_ll ? 1.0 : lx[lp[at[k]]];
+        }
       }
+      solved = reach == reached.rows();  // one reach for every column
+      for (int k = 0; k < reach && solved; ++k) reached(k, j) = values[at[k]];
     }
   }
+  const Eigen::MatrixXd form =
+      solved ? Eigen::MatrixXd(reached.transpose() *
+                               pivots.cwiseInverse().asDiagonal() * reached)
+             : Eigen::MatrixXd();
   cholmod_free_dense(&x, common_.get());
   cholmod_free_dense(&y, common_.get());
   cholmod_free_dense(&e, common_.get());
