@@ -25,7 +25,8 @@ struct ChainsVerdict : ChainMaps<Pose> {
 // Judges the loops of `graph`, which may hold several odometry chains
 // (ChainSpansOf). The loops inside a chain are judged by the map procedure
 // on that chain alone, exactly as VerifyWithMap would judge them were it the
-// whole graph. The loops between two chains are clustered per pair
+// whole graph, and judged again by rule 5 once the chain is joined. The
+// loops between two chains are clustered per pair
 // (`options.cluster_window` on both ends) and judged by the joining rule:
 //  1. Until two chains are joined nothing relates their frames, so no single
 //     cluster can be refuted or confirmed by them: one false cluster that
