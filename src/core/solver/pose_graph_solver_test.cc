@@ -8,11 +8,11 @@
 #include <random>
 #include <tuple>
 
+#include "../testing/chain_worlds.h"
 #include "../testing/dataset_dir.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
-#include "rrr/sim/simulated_world.h"
 #include "rrr/solver/edge_error.h"
 #include "rrr/solver/solve_in_parallel.h"
 
@@ -293,11 +293,7 @@ TEST(PoseGraphSolver, CountsTheEdgesTheActiveLoopsSpan) {
 TEST(PoseGraphSolver, ChangesOfMinimumAreWhatMinimizingWithAndWithoutGives) {
   // A simulated city whose loops are true, and a false revisit of 5 links
   // that the odometry's drift could explain (1 m and 0.03 rad off).
-  WorldOptions options;
-  options.poses = 600;
-  options.false_loops = 0;
-  options.seed = 2;
-  const SimulatedWorld world = SimulateWorld(options);
+  const SimulatedWorld world = SimulateWorld(testing::Grid(600, 2));
   PoseGraph<Pose2> g = world.graph;
   const int true_loops = static_cast<int>(g.loops().size());
   ASSERT_GT(true_loops, 10);
