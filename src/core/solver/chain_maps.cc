@@ -33,7 +33,8 @@ std::vector<Pose> FramesIn(const std::vector<ChainPair<Pose>>& pairs,
 
 template <class Pose>
 void MinimizeMaps(const PoseGraph<Pose>& graph,
-                  const std::vector<int>& accepted, ChainMaps<Pose>* maps) {
+                  const std::vector<int>& accepted, ChainMaps<Pose>* maps,
+                  int only_map) {
   const int num_chains = static_cast<int>(maps->chains.size());
   DisjointSets joined(num_chains);
   for (const ChainPair<Pose>& p : maps->pairs) {
@@ -43,6 +44,7 @@ void MinimizeMaps(const PoseGraph<Pose>& graph,
   for (int c = 0; c < num_chains; ++c) maps->map_of_chain[c] = joined.Find(c);
   maps->minimized.clear();
   for (int m = 0; m < num_chains; ++m) {
+    if (only_map >= 0 && m != only_map) continue;
     std::vector<ChainSpan> spans;
     for (int c = 0; c < num_chains; ++c) {
       if (maps->map_of_chain[c] == m) spans.push_back(maps->chains[c]);
@@ -79,8 +81,8 @@ template std::vector<Pose2> FramesIn(const std::vector<ChainPair<Pose2>>&, int,
 template std::vector<Pose3> FramesIn(const std::vector<ChainPair<Pose3>>&, int,
                                      int);
 template void MinimizeMaps(const PoseGraph<Pose2>&, const std::vector<int>&,
-                           ChainMaps<Pose2>*);
+                           ChainMaps<Pose2>*, int);
 template void MinimizeMaps(const PoseGraph<Pose3>&, const std::vector<int>&,
-                           ChainMaps<Pose3>*);
+                           ChainMaps<Pose3>*, int);
 
 }  // namespace rrr

@@ -95,25 +95,27 @@ inline PoseGraph<Pose2> TwoSessionsWithFalseLoops(const SimulatedWorld& world,
   return two;
 }
 
-// `world` cut into two sessions at pose `cut`, with a false revisit of 10
-// links inside the second after its `*true_loops` true loops: from pose
-// cut + 100 + k to cut + 500 + k, measuring what the odometry between them
-// says moved 2 m ahead and 0.06 rad: the odometry's drift over 400 poses can
-// explain it, so the second session alone need not refute it.
-inline PoseGraph<Pose2> TwoSessionsWithAFalseRevisit(
-    const SimulatedWorld& world, int cut, size_t* true_loops) {
-  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
-  *true_loops = two.loops().size();
+// `world` cut into sessions at the poses `cuts` (ascending), with a false
+// revisit of 10 links inside the second after its `*true_loops` true loops:
+// from pose cuts[0] + 100 + k to cuts[0] + 500 + k (the second session must
+// hold them), measuring what the odometry between them says moved 2 m ahead
+// and 0.06 rad: the odometry's drift over 400 poses can explain it, so the
+// second session alone need not refute it.
+inline PoseGraph<Pose2> SessionsWithAFalseRevisit(const SimulatedWorld& world,
+                                                  const std::vector<int>& cuts,
+                                                  size_t* true_loops) {
+  PoseGraph<Pose2> out = CutAt(world.graph, cuts);
+  *true_loops = out.loops().size();
   for (int k = 0; k < 10; ++k) {
-    Constraint<Pose2> e = two.loops().front();
-    e.from = cut + 100 + k;
+    Constraint<Pose2> e = out.loops().front();
+    e.from = cuts[0] + 100 + k;
     e.to = e.from + 400;
     e.measurement =
         world.graph.estimates()[e.from].between(world.graph.estimates()[e.to]) *
         Pose2(2.0, 0.0, 0.06);
-    two.AddEdge(e);
+    out.AddEdge(e);
   }
-  return two;
+  return out;
 }
 
 // `world` (of at least 1,000 poses) cut into three sessions at `cuts`

@@ -3,6 +3,7 @@
 #ifndef RRR_RRR_CHAINS_VERIFY_CHAINS_H_
 #define RRR_RRR_CHAINS_VERIFY_CHAINS_H_
 
+#include <functional>
 #include <vector>
 
 #include "rrr/graph/chain_spans.h"
@@ -80,7 +81,10 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     the map minimized again, while any is; then one taken out that now
 //     fits is put back. If any stays out, its chain is judged alone again
 //     without it (what it had bent is judged afresh) and rules 1–5 run
-//     again, until they refute the same loops as before.
+//     again, until they refute the same loops as before. Rule 5 also weighs
+//     a chain's clusters in the map it is first joined to, while pairs
+//     remain to be judged: a cluster it refutes there starts the next round
+//     at once, so the pairs left are not judged against the map it bent.
 // Gates use the larger of the two chains' final noise scales (group scale
 // for clusters, map scale for one link). A graph of one chain is judged by
 // VerifyWithMap itself. `stats`, if given, sums the chains' statistics.
@@ -109,15 +113,24 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
                                 const RrrOptions& options,
                                 MapVerifierStats* stats = nullptr);
 
+// Called after two maps are joined: the verdict so far (the pairs judged,
+// map_of_chain as it is, each chain in its own frame) and the joined map's
+// lowest chain. Returns whether to stop there.
+template <class Pose>
+using AfterJoin = std::function<bool(const ChainsVerdict<Pose>&, int)>;
+
 // Rules 1–3 of VerifyChains over the chains of `graph` (ChainSpansOf), each
 // judged alone already (`alone`, by chain; a loop pending there is counted
 // refused): the verdict over every loop, the pairs and the map each chain is
 // in, with `estimates` each chain at its own map in its own frame. Rule 4
 // (MinimizeMaps) is left to the caller. `stats`, if given, sums the chains'.
+// After each join of two maps but the last pair's, `after_join`, if given,
+// is called; if it returns true, the verdict so far is returned.
 template <class Pose>
 ChainsVerdict<Pose> JudgeBetweenChains(
     const PoseGraph<Pose>& graph, const std::vector<ChainAlone<Pose>>& alone,
-    const RrrOptions& options, MapVerifierStats* stats = nullptr);
+    const RrrOptions& options, MapVerifierStats* stats = nullptr,
+    const AfterJoin<Pose>& after_join = nullptr);
 
 }  // namespace rrr
 

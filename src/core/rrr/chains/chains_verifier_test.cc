@@ -21,8 +21,8 @@ using testing::AppendChain;
 using testing::ChainWorldOptions;
 using testing::CutAt;
 using testing::Grid;
+using testing::SessionsWithAFalseRevisit;
 using testing::ThreeSessionsWithAFalseJoin;
-using testing::TwoSessionsWithAFalseRevisit;
 using testing::TwoSessionsWithFalseLoops;
 
 using Changes = std::vector<DecisionChange>;
@@ -224,7 +224,7 @@ TEST(ChainsVerifier, ARobotsFalseRevisitIsRefusedOnceTheJoinedMapRefutesIt) {
   const SimulatedWorld world = SimulateWorld(Grid(1600, 4));
   size_t true_loops = 0;
   const PoseGraph<Pose2> two =
-      TwoSessionsWithAFalseRevisit(world, 800, &true_loops);
+      SessionsWithAFalseRevisit(world, {800}, &true_loops);
   ChainsVerifier<Pose2> verifier(ChainWorldOptions());
   // Per false candidate: accepted at some update, then refused by rule 5.
   std::map<int, std::pair<bool, bool>> seen;

@@ -28,20 +28,28 @@ template <class Pose>
 std::vector<RefutedGroup> ReviewJoinedMaps(
     const PoseGraph<Pose>& graph, const ChainsVerdict<Pose>& judged,
     const std::vector<ChainAlone<Pose>>& alone,
-    const std::vector<RefutedGroup>& refuted, const RrrOptions& options) {
+    const std::vector<RefutedGroup>& refuted, const RrrOptions& options,
+    const std::vector<int>& chains) {
   const ChiSquareQuantile chi2(options.alpha);
   const int num_chains = static_cast<int>(judged.chains.size());
   const auto chain_of = [&](int pose) {
     return ChainHolding(judged.chains, pose);
   };
+  const auto weighs = [&](int chain) {
+    return chains.empty() ||
+           std::binary_search(chains.begin(), chains.end(), chain);
+  };
   std::vector<RefutedGroup> out;
   for (int m = 0; m < num_chains; ++m) {
     std::vector<ChainSpan> spans;
+    bool weighed_here = false;
     for (int c = 0; c < num_chains; ++c) {
-      if (judged.map_of_chain[c] == m) spans.push_back(judged.chains[c]);
+      if (judged.map_of_chain[c] != m) continue;
+      spans.push_back(judged.chains[c]);
+      weighed_here = weighed_here || weighs(c);
     }
     // A chain in no joined map has nothing to refute its clusters with.
-    if (spans.size() < 2) continue;
+    if (spans.size() < 2 || !weighed_here) continue;
     // The map's accepted loops, then those refuted before, as loops of its
     // own graph; its clusters inside chains, in and out.
     std::vector<int> loops;
@@ -51,7 +59,7 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
       const auto& e = graph.loops()[k];
       const int c = chain_of(e.from);
       if (judged.map_of_chain[c] != m) continue;
-      if (c == chain_of(e.to)) {
+      if (c == chain_of(e.to) && weighs(c)) {
         const auto [at, added] =
             weighed_of_cluster.emplace(judged.verdict.cluster_of_loop[k],
                                        static_cast<int>(weighed.size()));
@@ -62,7 +70,7 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
       loops.push_back(k);
     }
     for (const RefutedGroup& g : refuted) {
-      if (judged.map_of_chain[g.chain] != m) continue;
+      if (judged.map_of_chain[g.chain] != m || !weighs(g.chain)) continue;
       weighed.push_back({g, false});
       for (int& k : weighed.back().group.loops) {
         loops.push_back(k);
@@ -135,10 +143,10 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
 template std::vector<RefutedGroup> ReviewJoinedMaps(
     const PoseGraph<Pose2>&, const ChainsVerdict<Pose2>&,
     const std::vector<ChainAlone<Pose2>>&, const std::vector<RefutedGroup>&,
-    const RrrOptions&);
+    const RrrOptions&, const std::vector<int>&);
 template std::vector<RefutedGroup> ReviewJoinedMaps(
     const PoseGraph<Pose3>&, const ChainsVerdict<Pose3>&,
     const std::vector<ChainAlone<Pose3>>&, const std::vector<RefutedGroup>&,
-    const RrrOptions&);
+    const RrrOptions&, const std::vector<int>&);
 
 }  // namespace rrr

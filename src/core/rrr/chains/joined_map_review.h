@@ -30,12 +30,16 @@ struct RefutedGroup {
 // minimized again; while none is, one of those taken out (`refuted` given,
 // or taken out now) whose Δ back in is under its gate, the least over it
 // first, is put back (once each). Returns the groups left out; those of
-// `refuted` whose chain is in no joined map now are not among them.
+// `refuted` whose chain is in no joined map now are not among them. With
+// `chains` given (ascending), only the clusters of those chains are weighed
+// (and put back), in the maps that hold them, and only groups of them are
+// returned.
 template <class Pose>
 std::vector<RefutedGroup> ReviewJoinedMaps(
     const PoseGraph<Pose>& graph, const ChainsVerdict<Pose>& judged,
     const std::vector<ChainAlone<Pose>>& alone,
-    const std::vector<RefutedGroup>& refuted, const RrrOptions& options);
+    const std::vector<RefutedGroup>& refuted, const RrrOptions& options,
+    const std::vector<int>& chains = {});
 
 }  // namespace rrr
 

@@ -82,30 +82,61 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
     return loops;
   };
   for (;;) {
-    ChainsVerdict<Pose> out = JudgeBetweenChains(graph, alone, options, stats);
-    // Rule 4: each map, in the frame of its lowest chain, minimized with its
-    // accepted loops.
-    MinimizeMaps(graph, out.verdict.accepted, &out);
-    // Rule 5.
     tried.insert(loops_of(refuted));
-    std::vector<RefutedGroup> next =
-        ReviewJoinedMaps(graph, out, alone, refuted, options);
-    const std::vector<int> next_loops = loops_of(next);
-    if (tried.count(next_loops)) {
-      // The groups as last weighed if the same loops, else as refuted.
-      if (next_loops == loops_of(refuted)) refuted = std::move(next);
+    // Rule 5 on the clusters of each chain as it is first joined, while
+    // pairs remain: one it refutes there starts the next round at once, so
+    // the pairs left are not judged against the map that cluster bent.
+    std::vector<RefutedGroup> next;
+    bool ended_early = false;
+    std::vector<bool> joined_before(chains.size(), false);
+    const AfterJoin<Pose> review_join = [&](const ChainsVerdict<Pose>& so_far,
+                                            int map) {
+      std::vector<int> newly;
+      for (size_t c = 0; c < chains.size(); ++c) {
+        if (so_far.map_of_chain[c] != map || joined_before[c]) continue;
+        newly.push_back(static_cast<int>(c));
+        joined_before[c] = true;
+      }
+      if (newly.empty()) return false;
+      ChainsVerdict<Pose> joined = so_far;
+      MinimizeMaps(graph, joined.verdict.accepted, &joined, map);
+      std::vector<RefutedGroup> groups =
+          ReviewJoinedMaps(graph, joined, alone, refuted, options, newly);
       for (const RefutedGroup& g : refuted) {
-        for (const int k : g.loops) {
-          out.verdict.rejected.push_back(k);
-          out.verdict.reasons[k] = g.reason;
+        if (!std::binary_search(newly.begin(), newly.end(), g.chain)) {
+          groups.push_back(g);
         }
       }
-      std::sort(out.verdict.rejected.begin(), out.verdict.rejected.end());
-      return out;
+      if (tried.count(loops_of(groups))) return false;
+      next = std::move(groups);
+      ended_early = true;
+      return true;
+    };
+    ChainsVerdict<Pose> out =
+        JudgeBetweenChains(graph, alone, options, stats, review_join);
+    if (!ended_early) {
+      // Rule 4: each map, in the frame of its lowest chain, minimized with
+      // its accepted loops; then rule 5 over every joined map.
+      MinimizeMaps(graph, out.verdict.accepted, &out);
+      next = ReviewJoinedMaps(graph, out, alone, refuted, options);
+      const std::vector<int> next_loops = loops_of(next);
+      if (tried.count(next_loops)) {
+        // The groups as last weighed if the same loops, else as refuted.
+        if (next_loops == loops_of(refuted)) refuted = std::move(next);
+        for (const RefutedGroup& g : refuted) {
+          for (const int k : g.loops) {
+            out.verdict.rejected.push_back(k);
+            out.verdict.reasons[k] = g.reason;
+          }
+        }
+        std::sort(out.verdict.rejected.begin(), out.verdict.rejected.end());
+        return out;
+      }
     }
     // Each chain whose refuted loops changed, judged alone again without
     // them.
     const std::vector<int> before = loops_of(refuted);
+    const std::vector<int> now = loops_of(next);
     refuted = std::move(next);
     for (size_t c = 0; c < chains.size(); ++c) {
       const auto of_chain = [&](const std::vector<int>& loops) {
@@ -115,9 +146,9 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
         }
         return in;
       };
-      const std::vector<int> now = of_chain(next_loops);
-      if (of_chain(before) == now) continue;
-      alone[c] = JudgeAlone(graph, chains[c], now, options);
+      const std::vector<int> left_out = of_chain(now);
+      if (of_chain(before) == left_out) continue;
+      alone[c] = JudgeAlone(graph, chains[c], left_out, options);
     }
   }
 }
@@ -125,7 +156,8 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
 template <class Pose>
 ChainsVerdict<Pose> JudgeBetweenChains(
     const PoseGraph<Pose>& graph, const std::vector<ChainAlone<Pose>>& alone,
-    const RrrOptions& options, MapVerifierStats* stats) {
+    const RrrOptions& options, MapVerifierStats* stats,
+    const AfterJoin<Pose>& after_join) {
   ChainsVerdict<Pose> out;
   out.chains = ChainSpansOf(graph);
   const int num_chains = static_cast<int>(out.chains.size());
@@ -244,8 +276,20 @@ ChainsVerdict<Pose> JudgeBetweenChains(
       judge.Judge(false);
     }
     std::sort(pair.accepted.begin(), pair.accepted.end());
+    // Two maps joined, and pairs left to judge.
+    const bool review = pair.joined && map != maps.Find(b) &&
+                        &pair != &std::get<1>(ordered.back());
     if (pair.joined) maps.Join(a, b);
     out.pairs.push_back(std::move(pair));
+    if (review && after_join) {
+      ChainsVerdict<Pose> so_far = out;
+      std::sort(so_far.verdict.accepted.begin(), so_far.verdict.accepted.end());
+      so_far.map_of_chain.resize(num_chains);
+      for (int c = 0; c < num_chains; ++c) {
+        so_far.map_of_chain[c] = maps.Find(c);
+      }
+      if (after_join(so_far, maps.Find(a))) return so_far;
+    }
   }
   std::sort(verdict.accepted.begin(), verdict.accepted.end());
   std::sort(verdict.rejected.begin(), verdict.rejected.end());
@@ -295,9 +339,9 @@ template ChainsVerdict<Pose3> JudgeChains(const PoseGraph<Pose3>&,
                                           const RrrOptions&, MapVerifierStats*);
 template ChainsVerdict<Pose2> JudgeBetweenChains(
     const PoseGraph<Pose2>&, const std::vector<ChainAlone<Pose2>>&,
-    const RrrOptions&, MapVerifierStats*);
+    const RrrOptions&, MapVerifierStats*, const AfterJoin<Pose2>&);
 template ChainsVerdict<Pose3> JudgeBetweenChains(
     const PoseGraph<Pose3>&, const std::vector<ChainAlone<Pose3>>&,
-    const RrrOptions&, MapVerifierStats*);
+    const RrrOptions&, MapVerifierStats*, const AfterJoin<Pose3>&);
 
 }  // namespace rrr

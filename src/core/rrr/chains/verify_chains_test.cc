@@ -20,8 +20,8 @@ using testing::AppendChain;
 using testing::ChainWorldOptions;
 using testing::CutAt;
 using testing::Grid;
+using testing::SessionsWithAFalseRevisit;
 using testing::ThreeSessionsWithAFalseJoin;
-using testing::TwoSessionsWithAFalseRevisit;
 using testing::TwoSessionsWithFalseLoops;
 
 TEST(ChainSpans, AGapStartsAChain) {
@@ -296,42 +296,48 @@ TEST(VerifyChains, RobotsThatMeetOnceAmongFalseLoopsAreLeftApartAndSaySo) {
 
 TEST(VerifyChains, AFalseRevisitInsideAChainIsRefutedByTheMapThatJoinsIt) {
   // The second session alone accepts a false revisit that its drift
-  // explains; the loops between the sessions, true revisits of the first
-  // session's places, contradict it once the sessions are joined.
+  // explains; the loops between the sessions, true revisits of the other
+  // sessions' places, contradict it once the sessions are joined. With a
+  // third session, the second's first join is reviewed while pairs remain.
   const SimulatedWorld world = SimulateWorld(Grid(1600, 4));
-  const int cut = 800;
-  size_t true_loops = 0;
-  const PoseGraph<Pose2> two =
-      TwoSessionsWithAFalseRevisit(world, cut, &true_loops);
-  const ChainSpan second = ChainSpansOf(two)[1];
-  std::vector<int> inside;
-  for (size_t k = 0; k < two.loops().size(); ++k) {
-    if (second.Holds(two.loops()[k].from) && second.Holds(two.loops()[k].to)) {
-      inside.push_back(static_cast<int>(k));
-    }
-  }
-  const Verdict alone = VerifyWithMap(
-      SubGraph(two, {second}, two.estimates(), inside), ChainWorldOptions());
-  const int false_alone = static_cast<int>(std::count_if(
-      alone.accepted.begin(), alone.accepted.end(),
-      [&](int k) { return static_cast<size_t>(inside[k]) >= true_loops; }));
-  ASSERT_GT(false_alone, 0);
-
-  const ChainsVerdict<Pose2> v = VerifyChains(two, ChainWorldOptions());
-  ASSERT_EQ(v.map_of_chain, (std::vector<int>{0, 0}));
-  int refuted_by_map = 0;
-  for (size_t k = true_loops; k < two.loops().size(); ++k) {
-    EXPECT_THAT(v.verdict.rejected, ::testing::Contains(k));
-    const DecisionReason& r = v.verdict.reasons[k];
-    if (r.test != DecisionTest::kJoinedMap) continue;
-    ++refuted_by_map;
-    EXPECT_GT(r.statistic, r.gate);
-  }
-  EXPECT_EQ(refuted_by_map, false_alone);
-  // What the revisit had bent is judged afresh: the sessions keep as many
-  // true loops as the uncut world judged as one chain does.
   const Verdict one = VerifyWithMap(world.graph, ChainWorldOptions());
-  EXPECT_GE(v.verdict.accepted.size(), one.accepted.size());
+  for (const std::vector<int>& cuts :
+       {std::vector<int>{800}, std::vector<int>{800, 1400}}) {
+    SCOPED_TRACE(::testing::PrintToString(cuts));
+    size_t true_loops = 0;
+    const PoseGraph<Pose2> sessions =
+        SessionsWithAFalseRevisit(world, cuts, &true_loops);
+    const ChainSpan second = ChainSpansOf(sessions)[1];
+    std::vector<int> inside;
+    for (size_t k = 0; k < sessions.loops().size(); ++k) {
+      const auto& e = sessions.loops()[k];
+      if (second.Holds(e.from) && second.Holds(e.to)) {
+        inside.push_back(static_cast<int>(k));
+      }
+    }
+    const Verdict alone = VerifyWithMap(
+        SubGraph(sessions, {second}, sessions.estimates(), inside),
+        ChainWorldOptions());
+    const int false_alone = static_cast<int>(std::count_if(
+        alone.accepted.begin(), alone.accepted.end(),
+        [&](int k) { return static_cast<size_t>(inside[k]) >= true_loops; }));
+    ASSERT_GT(false_alone, 0);
+
+    const ChainsVerdict<Pose2> v = VerifyChains(sessions, ChainWorldOptions());
+    ASSERT_EQ(v.map_of_chain, std::vector<int>(cuts.size() + 1, 0));
+    int refuted_by_map = 0;
+    for (size_t k = true_loops; k < sessions.loops().size(); ++k) {
+      EXPECT_THAT(v.verdict.rejected, ::testing::Contains(k));
+      const DecisionReason& r = v.verdict.reasons[k];
+      if (r.test != DecisionTest::kJoinedMap) continue;
+      ++refuted_by_map;
+      EXPECT_GT(r.statistic, r.gate);
+    }
+    EXPECT_EQ(refuted_by_map, false_alone);
+    // What the revisit had bent is judged afresh: the sessions keep as many
+    // true loops as the uncut world judged as one chain does.
+    EXPECT_GE(v.verdict.accepted.size(), one.accepted.size());
+  }
 }
 
 TEST(VerifyChains, OneChainIsJudgedAsTheMapProcedureJudgesIt) {
