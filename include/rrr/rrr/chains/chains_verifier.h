@@ -34,11 +34,13 @@ struct ChainPose {
 // evidence, made first, puts the chains in one map that refutes it), and a
 // chain's own cluster that a joined map refutes (rule 5) is refused in
 // place of the chain's decision until a later run no longer refutes it.
-// Until two clusters join a pair, its loops stay pending (nothing can
-// confirm them yet). Finish() runs rules 1–5 once more: it refuses them
-// (test "apart"), and its decisions over a chain's own loops, where they
-// differ from the chain's, stand in for the chain's. After Finish() the
-// decisions are those of VerifyChains on Graph().
+// The decisions of a run over a chain's own loops stand in for the chain's
+// where they differ from the decisions the run started from and the chain
+// has not changed those since (rule 5's refutations, and what the chain
+// judged again without them decides otherwise). Until two clusters join a
+// pair, its loops stay pending (nothing can confirm them yet). Finish()
+// runs rules 1–5 once more and refuses them (test "apart"). After Finish()
+// the decisions are those of VerifyChains on Graph().
 template <class Pose>
 class ChainsVerifier {
  public:
@@ -124,7 +126,7 @@ class ChainsVerifier {
     int own = -1;      // candidate number in its chain's verifier, if inside
     int between = -1;  // index into between_, if between chains
     LoopState state = LoopState::kPending;
-    // Inside a chain whose decision Finish() took from rules 1–5 where they
+    // Inside a chain whose decision is taken from rules 1–5 where they
     // differ from the chain's own (rule 5 refuted it, or judged its chain
     // again without what it refuted).
     bool overruled = false;
@@ -142,6 +144,8 @@ class ChainsVerifier {
     std::vector<int> candidate_of_loop;  // of graph's loops
     int first_between = 0;               // graph's first loop between chains
     std::vector<ChainAlone<Pose>> alone;
+    // The chains' own states of graph's loops inside them, at the copy.
+    std::vector<LoopState> own_state;
     ChainsVerdict<Pose> verdict;
   };
 
@@ -149,9 +153,9 @@ class ChainsVerifier {
   // The graph as it is and each chain's own decisions and map.
   Judgement Snapshot();
   // Sets the states of the loops between chains that `j` judged and the
-  // chains' frames, and refuses the chains' own loops that rule 5 refuted;
-  // with `finish`, loops apart are refused, and a chain's own loops take
-  // the states `j` gives them.
+  // chains' frames, and the states `j` gives the chains' own loops where
+  // they differ from `j.own_state` and the chain's state is still that;
+  // with `finish`, loops apart are refused.
   void Apply(Judgement j, bool finish, std::vector<DecisionChange>* changes);
   void SetState(int candidate, LoopState state,
                 std::vector<DecisionChange>* changes);

@@ -292,6 +292,10 @@ typename ChainsVerifier<Pose>::Judgement ChainsVerifier<Pose>::Snapshot() {
       j.alone[c].inside.push_back(j.first_between++);
     }
   }
+  for (int k = 0; k < j.first_between; ++k) {
+    const Candidate& c = candidates_[j.candidate_of_loop[k]];
+    j.own_state.push_back(chains_[c.a.chain]->state(c.own));
+  }
   return j;
 }
 
@@ -304,10 +308,14 @@ void ChainsVerifier<Pose>::Apply(Judgement j, bool finish,
   for (int k = 0; k < j.first_between; ++k) {
     Candidate& c = candidates_[j.candidate_of_loop[k]];
     const LoopState own = chains_[c.a.chain]->state(c.own);
-    // Before Finish() only rule 5's refutations stand in for the chain's
-    // decisions: the chain's other decisions may be newer than `j`.
+    // Rules 1–5 stand in for the chain's decision where they decided
+    // otherwise than the decision `j` copied, while the chain has not
+    // changed it since (a newer decision stands until they run again); a
+    // loop the chain had not decided yet waits for the chain.
+    const LoopState then = j.own_state[k];
     c.overruled = judged.verdict.reasons[k].test == DecisionTest::kJoinedMap ||
-                  (finish && accepted[k] != (own == LoopState::kAccepted));
+                  (then != LoopState::kPending && own == then &&
+                   accepted[k] != (then == LoopState::kAccepted));
     if (c.overruled) c.reason = judged.verdict.reasons[k];
     SetState(j.candidate_of_loop[k],
              c.overruled

@@ -13,6 +13,7 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/graph/candidate_defect.h"
 #include "rrr/rrr/chains/verify_chains.h"
+#include "rrr/rrr/map/verify_with_map.h"
 
 namespace rrr {
 namespace {
@@ -219,14 +220,34 @@ TEST(ChainsVerifier, InTheBackgroundItDecidesAtFinishAsAtOnce) {
 
 TEST(ChainsVerifier, ARobotsFalseRevisitIsRefusedOnceTheJoinedMapRefutesIt) {
   // The second robot's own verifier accepts a false revisit that its drift
-  // explains; once the robots are joined, rule 5 refutes it and the fleet's
-  // decision stands in for the robot's, before Finish() and after.
-  const SimulatedWorld world = SimulateWorld(Grid(1600, 4));
+  // explains, and later refuses true loops against the map it bent; once
+  // the robots are joined, rule 5 refutes the revisit and the fleet's
+  // decisions stand in for the robot's, before Finish() and after.
+  const SimulatedWorld world = SimulateWorld(Grid(2400, 4));
   size_t true_loops = 0;
   const PoseGraph<Pose2> two =
       SessionsWithAFalseRevisit(world, {800}, &true_loops);
+  // The true loops inside the second robot that it refuses alone.
+  const ChainSpan second = ChainSpansOf(two)[1];
+  std::vector<int> inside;
+  for (size_t k = 0; k < two.loops().size(); ++k) {
+    const auto& e = two.loops()[k];
+    if (second.Holds(e.from) && second.Holds(e.to)) {
+      inside.push_back(static_cast<int>(k));
+    }
+  }
+  const Verdict alone = VerifyWithMap(
+      SubGraph(two, {second}, two.estimates(), inside), ChainWorldOptions());
+  std::vector<size_t> refused_alone;
+  for (const int k : alone.rejected) {
+    if (static_cast<size_t>(inside[k]) < true_loops) {
+      refused_alone.push_back(inside[k]);
+    }
+  }
+  ASSERT_FALSE(refused_alone.empty());
+
   ChainsVerifier<Pose2> verifier(ChainWorldOptions());
-  // Per false candidate: accepted at some update, then refused by rule 5.
+  // Per candidate: accepted at some update, then refused by rule 5.
   std::map<int, std::pair<bool, bool>> seen;
   const auto watch = [&](const Changes& changes) {
     for (const DecisionChange& change : changes) {
@@ -239,13 +260,18 @@ TEST(ChainsVerifier, ARobotsFalseRevisitIsRefusedOnceTheJoinedMapRefutesIt) {
     }
   };
   const std::vector<int> candidate_of_loop =
-      FeedSideBySide(two, &verifier, 10, {}, watch);
+      FeedSideBySide(two, &verifier, 50, {}, watch);
   int refuted_online = 0;
   for (size_t loop = true_loops; loop < two.loops().size(); ++loop) {
     const auto& [accepted, refuted] = seen[candidate_of_loop[loop]];
     refuted_online += accepted && refuted;
   }
   EXPECT_GT(refuted_online, 0);
+  int kept_online = 0;
+  for (const size_t loop : refused_alone) {
+    kept_online += seen[candidate_of_loop[loop]].first;
+  }
+  EXPECT_GT(kept_online, 0) << "of " << refused_alone.size();
   verifier.Finish();
   EXPECT_EQ(Accepted(verifier), AcceptedByVerifyChains(verifier));
   int refuted_at_finish = 0;
