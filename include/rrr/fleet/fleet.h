@@ -141,6 +141,10 @@ class Fleet {
 
   std::vector<DecisionChange> Update();
   std::vector<DecisionChange> Finish();
+  // ChainsVerifier::UpdateChains and JudgeNow (a resume replays recorded
+  // updates with the first and ends with the second).
+  std::vector<DecisionChange> UpdateChains();
+  std::vector<DecisionChange> JudgeNow();
 
   const ChainsVerifier<Pose>& verifier() const { return verifier_; }
   // The robot and session of chain `chain`.

@@ -25,9 +25,9 @@ struct FleetResumeSummary {
   int candidates = 0;  // recorded candidates (some may wait for robots)
   int updates = 0;
   // Candidates whose replayed state differs from the recorded one: 0 when
-  // the options are the same and rules 1–3 between chains run inside the
-  // updates; with them in the background, loops between chains may be
-  // decided at another update than recorded (never otherwise at Finish()).
+  // the options are the same and rules 1–5 between chains ran inside the
+  // updates; with them in the background, the recording may not have taken
+  // the last run's decisions yet (never otherwise at Finish()).
   int differing_decisions = 0;
 };
 
@@ -55,9 +55,11 @@ class FleetStore {
   // Feeds the recording to `fleet`, which must be new and name every
   // recorded robot, in the order it was recorded: each keyframe as the
   // fleet took it (Fleet::AddKeyframe, its sessions as they were), each
-  // candidate, and Update() or Finish() where the recording ran one (each
-  // keyframe must come back under its recorded id and each candidate under
-  // its recorded number). Then
+  // candidate, and Fleet::UpdateChains() or Finish() where the recording ran
+  // Update() or Finish() (each keyframe must come back under its recorded id
+  // and each candidate under its recorded number), and JudgeNow() after the
+  // last Update(): the decisions are those the recording had after its last
+  // update if it ran rules 1–5 inside the updates. Then
   // every robot that has a session starts a new one with its next reading
   // (a node started again cannot know where its robots went meanwhile; only
   // loop closures join what comes next to what was). Throws SessionError

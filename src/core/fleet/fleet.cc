@@ -269,6 +269,18 @@ std::vector<DecisionChange> Fleet<Pose>::Finish() {
 }
 
 template <class Pose>
+std::vector<DecisionChange> Fleet<Pose>::UpdateChains() {
+  return verifier_.UpdateChains();
+}
+
+template <class Pose>
+std::vector<DecisionChange> Fleet<Pose>::JudgeNow() {
+  std::vector<DecisionChange> changes = verifier_.JudgeNow();
+  RefreshMaps();
+  return changes;
+}
+
+template <class Pose>
 void Fleet<Pose>::RefreshMaps() {
   for (Session& session : sessions_by_chain_) {
     session.map = verifier_.Map(session.chain);

@@ -253,12 +253,16 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
   FleetResumeSummary summary;
   const std::vector<UpdateRow> updates = ReadUpdates(&s.db);
   size_t next = 0;
+  // Each update replayed for the chains' own decisions; rules 1–5 between
+  // chains once at the end (their last run decides what they decide).
+  bool judged = true;
   const auto run_updates_until = [&](std::int64_t seq) {
     for (; next < updates.size() && updates[next].last_seq <= seq; ++next) {
-      if (updates[next].finish) {
+      judged = updates[next].finish;
+      if (judged) {
         fleet->Finish();
       } else {
-        fleet->Update();
+        fleet->UpdateChains();
       }
       ++summary.updates;
     }
@@ -322,6 +326,7 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
     run_updates_until(seq);
   }
   run_updates_until(s.next_seq);
+  if (!judged) fleet->JudgeNow();
   const auto& verifier = fleet->verifier();
   for (const auto& [candidate, state] : ReadFinalStates(&s.db)) {
     if (candidate >= verifier.num_candidates() ||

@@ -70,11 +70,12 @@ Eigen::Matrix<double, N, N> FiniteMatrix(const SqliteDb& db,
                                          const std::string& what,
                                          const std::string& at) {
   constexpr size_t kUpper = N * (N + 1) / 2;
+  constexpr size_t kFull = static_cast<size_t>(N) * N;
   const size_t bytes = row.NumBytes(column);
   const size_t count = bytes / sizeof(double);
-  if (bytes % sizeof(double) != 0 || (count != kUpper && count != N * N)) {
+  if (bytes % sizeof(double) != 0 || (count != kUpper && count != kFull)) {
     db.Fail(at + what + " holds " + std::to_string(bytes) + " bytes, not " +
-            std::to_string(kUpper) + " or " + std::to_string(N * N) +
+            std::to_string(kUpper) + " or " + std::to_string(kFull) +
             " numbers");
   }
   const std::vector<double> values =

@@ -76,10 +76,22 @@ class ChainsVerifier {
               const Information& information);
 
   // Judges what became ready; returns the changed decisions.
-  std::vector<DecisionChange> Update() { return Judge(false); }
+  std::vector<DecisionChange> Update() { return Judge(Step::kUpdate); }
   // Judges everything now, as at the end of a run, and minimizes each map
   // with its accepted loops; returns the changed decisions.
-  std::vector<DecisionChange> Finish() { return Judge(true); }
+  std::vector<DecisionChange> Finish() { return Judge(Step::kFinish); }
+  // Update() of the chains' own decisions only: rules 1–5 wait for the next
+  // Update() that calls for them, or JudgeNow(). The states after a series
+  // of these and one JudgeNow() are those after the same series of Update()
+  // run without the background: the states of the loops between chains and
+  // of those rules 1–5 stand in for are those of their last run (for a
+  // resume that replays recorded updates).
+  std::vector<DecisionChange> UpdateChains() {
+    return Judge(Step::kChainsOnly);
+  }
+  // Update(), with rules 1–5 run at once over the graph as it is (after the
+  // run in the background, if any, ends).
+  std::vector<DecisionChange> JudgeNow() { return Judge(Step::kJudgeNow); }
 
   int num_chains() const { return static_cast<int>(chains_.size()); }
   int num_candidates() const { return static_cast<int>(candidates_.size()); }
@@ -149,7 +161,8 @@ class ChainsVerifier {
     ChainsVerdict<Pose> verdict;
   };
 
-  std::vector<DecisionChange> Judge(bool finish);
+  enum class Step { kUpdate, kChainsOnly, kJudgeNow, kFinish };
+  std::vector<DecisionChange> Judge(Step step);
   // The graph as it is and each chain's own decisions and map.
   Judgement Snapshot();
   // Sets the states of the loops between chains that `j` judged and the

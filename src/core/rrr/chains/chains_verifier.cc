@@ -222,7 +222,8 @@ void ChainsVerifier<Pose>::SetState(int candidate, LoopState state,
 }
 
 template <class Pose>
-std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
+std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(Step step) {
+  const bool finish = step == Step::kFinish;
   std::vector<DecisionChange> changes;
   if (chains_.empty()) return changes;
   for (int c = 0; c < num_chains(); ++c) {
@@ -244,30 +245,32 @@ std::vector<DecisionChange> ChainsVerifier<Pose>::Judge(bool finish) {
   }
   if (ready != num_ready_judged_) between_changed_ = true;
   num_ready_judged_ = ready;
-  // Rules 1–5 that ran in the background: their decisions now (at Finish()
-  // they are judged again at once).
-  if (running_.valid() && (finish || running_.wait_for(std::chrono::seconds(
-                                         0)) == std::future_status::ready)) {
+  if (step == Step::kChainsOnly) return changes;
+  // Rules 1–5 that ran in the background: their decisions now (judged again
+  // at once at Finish() and JudgeNow()).
+  const bool now = finish || step == Step::kJudgeNow;
+  if (running_.valid() && (now || running_.wait_for(std::chrono::seconds(0)) ==
+                                      std::future_status::ready)) {
     Judgement done = running_.get();
-    if (!finish) Apply(std::move(done), false, &changes);
+    if (!now) Apply(std::move(done), false, &changes);
   }
-  if (finish) {
-    Judgement now = Snapshot();
-    now.verdict = JudgeChains(now.graph, now.alone, options_);
-    Apply(std::move(now), true, &changes);
+  if (now) {
+    Judgement j = Snapshot();
+    j.verdict = JudgeChains(j.graph, j.alone, options_);
+    Apply(std::move(j), finish, &changes);
     between_changed_ = false;
   } else if (between_changed_ && !running_.valid()) {
     between_changed_ = false;
-    Judgement now = Snapshot();
+    Judgement j = Snapshot();
     if (in_background_) {
-      running_ = std::async(std::launch::async, [j = std::move(now),
-                                                 options = options_]() mutable {
-        j.verdict = JudgeChains(j.graph, j.alone, options);
-        return std::move(j);
-      });
+      running_ = std::async(
+          std::launch::async, [j = std::move(j), options = options_]() mutable {
+            j.verdict = JudgeChains(j.graph, j.alone, options);
+            return std::move(j);
+          });
     } else {
-      now.verdict = JudgeChains(now.graph, now.alone, options_);
-      Apply(std::move(now), false, &changes);
+      j.verdict = JudgeChains(j.graph, j.alone, options_);
+      Apply(std::move(j), false, &changes);
     }
   }
   finished_ = finish;
