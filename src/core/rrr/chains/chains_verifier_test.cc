@@ -20,7 +20,6 @@ namespace {
 
 using testing::AppendChain;
 using testing::ChainWorldOptions;
-using testing::CutAt;
 using testing::Grid;
 using testing::SessionsWithAFalseRevisit;
 using testing::ThreeSessionsWithAFalseJoin;
