@@ -118,6 +118,22 @@ inline PoseGraph<Pose2> SessionsWithAFalseRevisit(const SimulatedWorld& world,
   return out;
 }
 
+// Chain `span` of `graph` judged alone by the map procedure (options
+// ChainWorldOptions): the verdict over its own loops, whose indices in
+// `graph` `*inside` receives (the verdict's loop k is (*inside)[k]).
+inline Verdict JudgedAlone(const PoseGraph<Pose2>& graph, const ChainSpan& span,
+                           std::vector<int>* inside) {
+  inside->clear();
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    const auto& e = graph.loops()[k];
+    if (span.Holds(e.from) && span.Holds(e.to)) {
+      inside->push_back(static_cast<int>(k));
+    }
+  }
+  return VerifyWithMap(SubGraph(graph, {span}, graph.estimates(), *inside),
+                       ChainWorldOptions());
+}
+
 // `world` (of at least 1,000 poses) cut into three sessions at `cuts`
 // (two poses, ascending). The first two never revisit each other's places;
 // between them come about 80 random false loops and two false revisits of two

@@ -113,11 +113,12 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
                                 const RrrOptions& options,
                                 MapVerifierStats* stats = nullptr);
 
-// Called after two maps are joined: the verdict so far (the pairs judged,
-// map_of_chain as it is, each chain in its own frame) and the joined map's
-// lowest chain. Returns whether to stop there.
+// Called after two maps are joined with a copy of the verdict so far (the
+// pairs judged, map_of_chain as it is, each chain in its own frame), which
+// it may change, and the joined map's lowest chain. Returns whether to stop
+// there.
 template <class Pose>
-using AfterJoin = std::function<bool(const ChainsVerdict<Pose>&, int)>;
+using AfterJoin = std::function<bool(ChainsVerdict<Pose>*, int)>;
 
 // Rules 1–3 of VerifyChains over the chains of `graph` (ChainSpansOf), each
 // judged alone already (`alone`, by chain; a loop pending there is counted
@@ -125,7 +126,7 @@ using AfterJoin = std::function<bool(const ChainsVerdict<Pose>&, int)>;
 // in, with `estimates` each chain at its own map in its own frame. Rule 4
 // (MinimizeMaps) is left to the caller. `stats`, if given, sums the chains'.
 // After each join of two maps but the last pair's, `after_join`, if given,
-// is called; if it returns true, the verdict so far is returned.
+// is called; if it returns true, its copy of the verdict so far is returned.
 template <class Pose>
 ChainsVerdict<Pose> JudgeBetweenChains(
     const PoseGraph<Pose>& graph, const std::vector<ChainAlone<Pose>>& alone,

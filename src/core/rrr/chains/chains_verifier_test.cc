@@ -13,7 +13,6 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/graph/candidate_defect.h"
 #include "rrr/rrr/chains/verify_chains.h"
-#include "rrr/rrr/map/verify_with_map.h"
 
 namespace rrr {
 namespace {
@@ -21,6 +20,7 @@ namespace {
 using testing::AppendChain;
 using testing::ChainWorldOptions;
 using testing::Grid;
+using testing::JudgedAlone;
 using testing::SessionsWithAFalseRevisit;
 using testing::ThreeSessionsWithAFalseJoin;
 using testing::TwoSessionsWithFalseLoops;
@@ -227,16 +227,8 @@ TEST(ChainsVerifier, ARobotsFalseRevisitIsRefusedOnceTheJoinedMapRefutesIt) {
   const PoseGraph<Pose2> two =
       SessionsWithAFalseRevisit(world, {800}, &true_loops);
   // The true loops inside the second robot that it refuses alone.
-  const ChainSpan second = ChainSpansOf(two)[1];
   std::vector<int> inside;
-  for (size_t k = 0; k < two.loops().size(); ++k) {
-    const auto& e = two.loops()[k];
-    if (second.Holds(e.from) && second.Holds(e.to)) {
-      inside.push_back(static_cast<int>(k));
-    }
-  }
-  const Verdict alone = VerifyWithMap(
-      SubGraph(two, {second}, two.estimates(), inside), ChainWorldOptions());
+  const Verdict alone = JudgedAlone(two, ChainSpansOf(two)[1], &inside);
   std::vector<size_t> refused_alone;
   for (const int k : alone.rejected) {
     if (static_cast<size_t>(inside[k]) < true_loops) {

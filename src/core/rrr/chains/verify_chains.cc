@@ -89,19 +89,18 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
     std::vector<RefutedGroup> next;
     bool ended_early = false;
     std::vector<bool> joined_before(chains.size(), false);
-    const AfterJoin<Pose> review_join = [&](const ChainsVerdict<Pose>& so_far,
+    const AfterJoin<Pose> review_join = [&](ChainsVerdict<Pose>* joined,
                                             int map) {
       std::vector<int> newly;
       for (size_t c = 0; c < chains.size(); ++c) {
-        if (so_far.map_of_chain[c] != map || joined_before[c]) continue;
+        if (joined->map_of_chain[c] != map || joined_before[c]) continue;
         newly.push_back(static_cast<int>(c));
         joined_before[c] = true;
       }
       if (newly.empty()) return false;
-      ChainsVerdict<Pose> joined = so_far;
-      MinimizeMaps(graph, joined.verdict.accepted, &joined, map);
+      MinimizeMaps(graph, joined->verdict.accepted, joined, map);
       std::vector<RefutedGroup> groups =
-          ReviewJoinedMaps(graph, joined, alone, refuted, options, newly);
+          ReviewJoinedMaps(graph, *joined, alone, refuted, options, newly);
       for (const RefutedGroup& g : refuted) {
         if (!std::binary_search(newly.begin(), newly.end(), g.chain)) {
           groups.push_back(g);
@@ -288,7 +287,7 @@ ChainsVerdict<Pose> JudgeBetweenChains(
       for (int c = 0; c < num_chains; ++c) {
         so_far.map_of_chain[c] = maps.Find(c);
       }
-      if (after_join(so_far, maps.Find(a))) return so_far;
+      if (after_join(&so_far, maps.Find(a))) return so_far;
     }
   }
   std::sort(verdict.accepted.begin(), verdict.accepted.end());

@@ -20,6 +20,7 @@ using testing::AppendChain;
 using testing::ChainWorldOptions;
 using testing::CutAt;
 using testing::Grid;
+using testing::JudgedAlone;
 using testing::SessionsWithAFalseRevisit;
 using testing::ThreeSessionsWithAFalseJoin;
 using testing::TwoSessionsWithFalseLoops;
@@ -307,17 +308,9 @@ TEST(VerifyChains, AFalseRevisitInsideAChainIsRefutedByTheMapThatJoinsIt) {
     size_t true_loops = 0;
     const PoseGraph<Pose2> sessions =
         SessionsWithAFalseRevisit(world, cuts, &true_loops);
-    const ChainSpan second = ChainSpansOf(sessions)[1];
     std::vector<int> inside;
-    for (size_t k = 0; k < sessions.loops().size(); ++k) {
-      const auto& e = sessions.loops()[k];
-      if (second.Holds(e.from) && second.Holds(e.to)) {
-        inside.push_back(static_cast<int>(k));
-      }
-    }
-    const Verdict alone = VerifyWithMap(
-        SubGraph(sessions, {second}, sessions.estimates(), inside),
-        ChainWorldOptions());
+    const Verdict alone =
+        JudgedAlone(sessions, ChainSpansOf(sessions)[1], &inside);
     const int false_alone = static_cast<int>(std::count_if(
         alone.accepted.begin(), alone.accepted.end(),
         [&](int k) { return static_cast<size_t>(inside[k]) >= true_loops; }));
