@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 namespace rrr {
 
@@ -31,8 +32,18 @@ class Pose2 {
   Eigen::Matrix2d rotation() const;
 
   // this · other.
-  Pose2 operator*(const Pose2& other) const;
-  Pose2 inverse() const;
+  Pose2 operator*(const Pose2& other) const {
+    const Translation t(t_.x() + cos_ * other.t_.x() - sin_ * other.t_.y(),
+                        t_.y() + sin_ * other.t_.x() + cos_ * other.t_.y());
+    return Pose2(t, theta_ + other.theta_,
+                 cos_ * other.cos_ - sin_ * other.sin_,
+                 sin_ * other.cos_ + cos_ * other.sin_);
+  }
+  Pose2 inverse() const {
+    const Translation t(-(cos_ * t_.x() + sin_ * t_.y()),
+                        sin_ * t_.x() - cos_ * t_.y());
+    return Pose2(t, -theta_, cos_, -sin_);
+  }
   // this⁻¹ · other: `other` seen from this pose.
   Pose2 between(const Pose2& other) const { return inverse() * other; }
   // Rotation angle of the pose in radians, in [0, pi].
@@ -57,7 +68,14 @@ class Pose2 {
 
  private:
   // With cos and sin of theta known (composition needs no trigonometry).
-  Pose2(const Translation& t, double theta, double cos, double sin);
+  Pose2(const Translation& t, double theta, double cos, double sin)
+      : t_(t), theta_(WrapAngle(theta)), cos_(cos), sin_(sin) {}
+  // `a` wrapped to (-pi, pi].
+  static double WrapAngle(double a) {
+    if (a > -M_PI && a <= M_PI) return a;
+    a = std::remainder(a, 2.0 * M_PI);
+    return a <= -M_PI ? a + 2.0 * M_PI : a;
+  }
 
   Translation t_ = Translation::Zero();
   double theta_ = 0.0;

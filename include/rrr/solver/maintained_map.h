@@ -104,6 +104,10 @@ class MaintainedMap {
     Pose x;
     std::vector<int> loops;  // loops of the map at this pose
     int temporary = 0;       // tries holding it
+    // The condensed odometry to the next junction, computed when `next`,
+    // that junction's pose, was last seen (-1: never).
+    int next = -1;
+    Constraint<Pose> to_next;
   };
   using Junctions = std::map<int, Junction>;
 
@@ -114,11 +118,17 @@ class MaintainedMap {
   // The junctions within `radius` hops of the junctions `seeds`, ascending;
   // no hop layer is added once there are `most_junctions_`.
   std::vector<int> Region(const std::vector<int>& seeds, int radius) const;
+  // The condensed odometry from junction `it` to the next (there must be
+  // one), computed again only when the next junction changed.
+  const Constraint<Pose>& ToNext(typename Junctions::iterator it);
   // Minimizes over `region` with the map's loops and `extra`; writes the
   // result into the junctions and returns it with the errors of `extra` and
-  // of the map's loops in the problem.
+  // of the map's loops in the problem. With `relaxed`, the region is first
+  // minimized without `extra` and `*relaxed` set to its estimates there
+  // (in the order of `region`); Δ is then taken from that minimum.
   MapTrial Minimize(const std::vector<int>& region,
-                    const std::vector<int>& extra);
+                    const std::vector<int>& extra,
+                    std::vector<Pose>* relaxed = nullptr);
   // Marks `loops` (whose ends are junctions) as loops of the map.
   void Attach(const std::vector<int>& loops);
   // Unmarks `loops` (those in the map); their ends stay junctions.

@@ -8,12 +8,6 @@ namespace {
 
 constexpr double kSmallAngle = 1e-6;
 
-double WrapAngle(double a) {
-  if (a > -M_PI && a <= M_PI) return a;
-  a = std::remainder(a, 2.0 * M_PI);
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
-}
-
 // sin(θ)/θ and (1 - cos(θ))/θ, with their limits near zero.
 void SinCosTerms(double theta, double* s, double* c) {
   if (std::abs(theta) < kSmallAngle) {
@@ -33,9 +27,6 @@ Pose2::Pose2(double x, double y, double theta)
       cos_(std::cos(theta_)),
       sin_(std::sin(theta_)) {}
 
-Pose2::Pose2(const Translation& t, double theta, double cos, double sin)
-    : t_(t), theta_(WrapAngle(theta)), cos_(cos), sin_(sin) {}
-
 Pose2 Pose2::FromParts(const Parts& parts) {
   Pose2 p;
   p.t_ << parts[0], parts[1];
@@ -49,19 +40,6 @@ Eigen::Matrix2d Pose2::rotation() const {
   Eigen::Matrix2d r;
   r << cos_, -sin_, sin_, cos_;
   return r;
-}
-
-Pose2 Pose2::operator*(const Pose2& other) const {
-  const Translation t(t_.x() + cos_ * other.t_.x() - sin_ * other.t_.y(),
-                      t_.y() + sin_ * other.t_.x() + cos_ * other.t_.y());
-  return Pose2(t, theta_ + other.theta_, cos_ * other.cos_ - sin_ * other.sin_,
-               sin_ * other.cos_ + cos_ * other.sin_);
-}
-
-Pose2 Pose2::inverse() const {
-  const Translation t(-(cos_ * t_.x() + sin_ * t_.y()),
-                      sin_ * t_.x() - cos_ * t_.y());
-  return Pose2(t, -theta_, cos_, -sin_);
 }
 
 double Pose2::angle() const { return std::abs(theta_); }

@@ -108,66 +108,88 @@ void MaintainedMap<Pose>::Release(int pose) {
 template <class Pose>
 std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
                                              int radius) const {
-  std::unordered_map<int, int> hops;
-  std::vector<int> frontier;
-  for (const int s : seeds) {
-    if (hops.emplace(s, 0).second) frontier.push_back(s);
-  }
-  std::vector<int> next_frontier;
+  std::vector<bool> reached(graph_.num_poses(), false);
+  std::vector<int> region;
+  const auto visit = [&](int pose, std::vector<int>* frontier) {
+    if (reached[pose]) return;
+    reached[pose] = true;
+    region.push_back(pose);
+    frontier->push_back(pose);
+  };
+  std::vector<int> frontier, next_frontier;
+  for (const int s : seeds) visit(s, &frontier);
   for (int h = 1; h <= radius && !frontier.empty() &&
-                  hops.size() < static_cast<size_t>(most_junctions_);
+                  region.size() < static_cast<size_t>(most_junctions_);
        ++h) {
     next_frontier.clear();
-    const auto visit = [&](int pose) {
-      if (hops.emplace(pose, h).second) next_frontier.push_back(pose);
-    };
     for (const int p : frontier) {
       const auto it = junctions_.find(p);
-      if (it != junctions_.begin()) visit(std::prev(it)->first);
-      if (std::next(it) != junctions_.end()) visit(std::next(it)->first);
+      if (it != junctions_.begin()) visit(std::prev(it)->first, &next_frontier);
+      if (std::next(it) != junctions_.end()) {
+        visit(std::next(it)->first, &next_frontier);
+      }
       for (const int k : it->second.loops) {
         const auto& e = graph_.loops()[k];
-        visit(e.from == p ? e.to : e.from);
+        visit(e.from == p ? e.to : e.from, &next_frontier);
       }
     }
     frontier.swap(next_frontier);
   }
-  std::vector<int> region;
-  region.reserve(hops.size());
-  for (const auto& [pose, h] : hops) region.push_back(pose);
   std::sort(region.begin(), region.end());
   return region;
 }
 
 template <class Pose>
+const Constraint<Pose>& MaintainedMap<Pose>::ToNext(
+    typename Junctions::iterator it) {
+  const int next = std::next(it)->first;
+  Junction& j = it->second;
+  if (j.next != next) {
+    j.to_next = chain_.Between(it->first, next);
+    j.next = next;
+  }
+  return j.to_next;
+}
+
+template <class Pose>
 MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
-                                       const std::vector<int>& extra) {
-  // Local indices: the region first, then the junctions it borders.
-  std::unordered_map<int, int> local;
-  std::vector<int> poses;
+                                       const std::vector<int>& extra,
+                                       std::vector<Pose>* relaxed) {
+  // Local indices: the region first (ascending), then the junctions it
+  // borders in the order the edges reach them.
+  std::vector<typename Junctions::iterator> at(region.size());
+  for (size_t k = 0; k < region.size(); ++k) {
+    at[k] = junctions_.find(region[k]);
+  }
+  std::unordered_map<int, int> border;
+  std::vector<int> poses = region;
   const auto index = [&](int pose) {
+    const auto in = std::lower_bound(region.begin(), region.end(), pose);
+    if (in != region.end() && *in == pose) {
+      return static_cast<int>(in - region.begin());
+    }
     const auto [it, added] =
-        local.emplace(pose, static_cast<int>(poses.size()));
+        border.emplace(pose, static_cast<int>(poses.size()));
     if (added) poses.push_back(pose);
     return it->second;
   };
-  for (const int p : region) index(p);
   std::vector<Constraint<Pose>> edges;
   std::vector<int> map_loops;
-  for (const int p : region) {
-    const auto it = junctions_.find(p);
+  for (size_t k = 0; k < region.size(); ++k) {
+    const int p = region[k];
+    const auto it = at[k];
     const auto next = std::next(it);
     if (next != junctions_.end()) {
-      Constraint<Pose> e = chain_.Between(p, next->first);
+      Constraint<Pose> e = ToNext(it);
       e.from = index(p);
       e.to = index(next->first);
       edges.push_back(e);
     }
     if (it != junctions_.begin()) {
-      const int before = std::prev(it)->first;
-      if (!std::binary_search(region.begin(), region.end(), before)) {
-        Constraint<Pose> e = chain_.Between(before, p);
-        e.from = index(before);
+      const auto before = std::prev(it);
+      if (!std::binary_search(region.begin(), region.end(), before->first)) {
+        Constraint<Pose> e = ToNext(before);
+        e.from = index(before->first);
         e.to = index(p);
         edges.push_back(e);
       }
@@ -187,23 +209,37 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
   }
 
   std::vector<Pose> x(poses.size());
-  for (size_t k = 0; k < poses.size(); ++k) x[k] = junctions_.at(poses[k]).x;
+  for (size_t k = 0; k < region.size(); ++k) x[k] = at[k]->second.x;
+  for (size_t k = region.size(); k < poses.size(); ++k) {
+    x[k] = junctions_.at(poses[k]).x;
+  }
   std::vector<int> free;
   for (size_t k = 0; k < region.size(); ++k) {
     if (region[k] != 0) free.push_back(static_cast<int>(k));
   }
   std::vector<const Constraint<Pose>*> pointers;
   pointers.reserve(edges.size());
+  for (const Constraint<Pose>& e : edges) pointers.push_back(&e);
+  // One analysis serves both minimizations: without `extra` (weight 0, the
+  // same system as without their edges) and with them.
+  LocalProblem<Pose> problem(static_cast<int>(x.size()), free, pointers);
+  if (relaxed) {
+    std::vector<double> weights(edges.size(), 1.0);
+    std::fill(weights.begin() + num_chain_and_map, weights.end(), 0.0);
+    problem.SetWeights(std::move(weights));
+    problem.Minimize(&x, convergence_);
+    relaxed->clear();
+    for (size_t k = 0; k < region.size(); ++k) relaxed->push_back(x[k]);
+    problem.SetWeights(std::vector<double>(edges.size(), 1.0));
+  }
   double before = 0.0;
-  std::vector<double> chi2_before(edges.size());
-  for (size_t k = 0; k < edges.size(); ++k) {
-    pointers.push_back(&edges[k]);
+  std::vector<double> chi2_before(num_chain_and_map);
+  for (size_t k = 0; k < num_chain_and_map; ++k) {
     chi2_before[k] = EdgeChi2(edges[k], x);
-    if (k < num_chain_and_map) before += chi2_before[k];
+    before += chi2_before[k];
   }
 
   MapTrial trial;
-  LocalProblem<Pose> problem(static_cast<int>(x.size()), free, pointers);
   trial.minimize = problem.Minimize(&x, convergence_);
   trial.num_free = static_cast<int>(free.size());
   trial.increase = trial.minimize.final_chi2 - before;
@@ -215,7 +251,7 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
     trial.map_loops.push_back(
         {map_loops[k], chi2_before[edge], EdgeChi2(edges[edge], x)});
   }
-  for (const int k : free) junctions_.at(poses[k]).x = x[k];
+  for (const int k : free) at[k]->second.x = x[k];
   return trial;
 }
 
@@ -225,11 +261,8 @@ MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius) {
   const std::vector<int> ends = PosesTouched(graph_, loops);
   for (const int p : ends) Insert(p, true);
   const std::vector<int> region = Region(ends, radius);
-  Minimize(region, {});
   std::vector<Pose> relaxed;
-  relaxed.reserve(region.size());
-  for (const int p : region) relaxed.push_back(junctions_.at(p).x);
-  MapTrial trial = Minimize(region, loops);
+  MapTrial trial = Minimize(region, loops, &relaxed);
   auto kept = std::make_unique<KeptTrial>();
   kept->loops = loops;
   kept->radius = radius;
