@@ -173,6 +173,7 @@ TEST(MaintainedMap, RemovingALoopRestoresTheMapWithoutIt) {
   map.Add(good, 100, 1e-12);
   map.Optimize();
   std::vector<double> before;
+  before.reserve(good.size());
   for (const int k : good) before.push_back(map.LoopChi2(k));
   const Pose2 pose_before = map.Estimate(400);
   map.Add({false_loop}, 100, 1e-12);
