@@ -38,6 +38,20 @@ PoseGraph<Pose> Revisits() {
                                    0.01);
 }
 
+// Revisits() with a false loop that pulls pose 400 onto pose 100, last;
+// sets `*false_loop` to its index.
+template <class Pose>
+PoseGraph<Pose> RevisitsWithAFalseLoop(int* false_loop) {
+  auto graph = Revisits<Pose>();
+  Constraint<Pose> wrong = graph.loops()[0];
+  wrong.from = 100;
+  wrong.to = 400;
+  wrong.measurement = Pose::Exp(Pose::Tangent::Unit(0) * 0.5);
+  graph.AddEdge(wrong);
+  *false_loop = static_cast<int>(graph.loops().size()) - 1;
+  return graph;
+}
+
 template <class Pose>
 class MaintainedMapTest : public ::testing::Test {};
 using Poses = ::testing::Types<Pose2, Pose3>;
@@ -67,14 +81,8 @@ TYPED_TEST(MaintainedMapTest, TryGivesTheIncreaseOfTheWholeMapsMinimum) {
 }
 
 TYPED_TEST(MaintainedMapTest, TryTakesTheIncreaseFromTheRegionsMinimum) {
-  auto graph = Revisits<TypeParam>();
-  // A false loop pulls pose 400 onto pose 100.
-  Constraint<TypeParam> wrong = graph.loops()[0];
-  wrong.from = 100;
-  wrong.to = 400;
-  wrong.measurement = TypeParam::Exp(TypeParam::Tangent::Unit(0) * 0.5);
-  graph.AddEdge(wrong);
-  const int false_loop = static_cast<int>(graph.loops().size()) - 1;
+  int false_loop = -1;
+  const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
   const OdometryChain<TypeParam> chain = ChainOf(graph);
   MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
@@ -159,14 +167,8 @@ TEST(MaintainedMap, KeepTrialAddsTheLoopsWithTheTrialsEstimate) {
 }
 
 TEST(MaintainedMap, RemovingALoopRestoresTheMapWithoutIt) {
-  auto graph = Revisits<Pose2>();
-  // A false loop pulls pose 400 onto pose 100.
-  Constraint<Pose2> wrong = graph.loops()[0];
-  wrong.from = 100;
-  wrong.to = 400;
-  wrong.measurement = Pose2(0.5, 0, 0);
-  graph.AddEdge(wrong);
-  const int false_loop = static_cast<int>(graph.loops().size()) - 1;
+  int false_loop = -1;
+  const auto graph = RevisitsWithAFalseLoop<Pose2>(&false_loop);
   const OdometryChain<Pose2> chain = ChainOf(graph);
   MaintainedMap<Pose2> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> good = {0, 1, 2, 3, 4, 5};
