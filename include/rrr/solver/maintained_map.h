@@ -2,10 +2,12 @@
 #ifndef RRR_SOLVER_MAINTAINED_MAP_H_
 #define RRR_SOLVER_MAINTAINED_MAP_H_
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <vector>
 
+#include "rrr/graph/chain_spans.h"
 #include "rrr/graph/odometry_chain.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/io/byte_stream.h"
@@ -46,13 +48,25 @@ struct MapTrial {
 // Changes are local: Add, Remove and Try minimize over the junctions within
 // `radius` hops (along the chain or across a loop of the map) of the loops'
 // ends, and no further than the hop layer that brings them to
-// `most_junctions`; Optimize minimizes over the whole map. The graph and the
-// chain must outlive the map; poses may be appended to both (same length)
-// between calls.
+// `most_junctions`; Optimize minimizes over the whole map. Pose 0 is held
+// (the map's frame).
 template <class Pose>
 class MaintainedMap {
  public:
+  // The map of `graph`, one chain whose odometry is `chain`. The graph and
+  // the chain must outlive the map; poses may be appended to both (same
+  // length) between calls.
   MaintainedMap(const PoseGraph<Pose>& graph, const OdometryChain<Pose>& chain,
+                const ConvergenceOptions& convergence, int most_junctions);
+  // The map of `graph`, whose poses are the chains `spans` laid end to end
+  // (the first from pose 0), each with its odometry in `odometry`
+  // (OdometryOf), related only by loops: every chain's first pose is a
+  // junction, placed at graph.estimates(). The graph and the odometry must
+  // outlive the map; the loops of the map must join the chains (a chain
+  // nothing relates to pose 0 has no unique minimum).
+  MaintainedMap(const PoseGraph<Pose>& graph,
+                const std::vector<ChainSpan>& spans,
+                const std::vector<OdometryChain<Pose>>& odometry,
                 const ConvergenceOptions& convergence, int most_junctions);
 
   bool Contains(int loop) const;
@@ -70,6 +84,17 @@ class MaintainedMap {
   // minimized without them, and that improvement of the estimate is kept;
   // otherwise the map is unchanged until KeepTrial().
   MapTrial Try(const std::vector<int>& loops, int radius);
+  // `trial`, the last Try(loops, radius), fails `passes`: tries them again
+  // over twice the hops, and again, while the region grows, a widening
+  // lowers Δ by more than `significant` (the correction reaches the
+  // region's border) and Δ is not over `gate` by more than the last
+  // widening lowered it (the correction fades as the region grows: no
+  // further widening brings it under). Returns the last trial (the one
+  // kept); `*tries` counts the trials made.
+  MapTrial Widen(MapTrial trial, const std::vector<int>& loops, int radius,
+                 double gate, double significant,
+                 const std::function<bool(const MapTrial&)>& passes,
+                 int* tries);
   // What `loops`, all in the map, bring to it: Try() on the map as
   // Remove(loops, radius, significant) would leave it. The map is unchanged
   // (and the last Try() dropped).
@@ -81,6 +106,9 @@ class MaintainedMap {
   void KeepTrial(double significant);
   // Adds `loops` and minimizes near them (Relax).
   void Add(const std::vector<int>& loops, int radius, double significant);
+  // Adds `loops` and places every junction at `x` (every pose of the
+  // graph), without minimizing: for loops whose minimum `x` is known.
+  void AddAt(const std::vector<int>& loops, const std::vector<Pose>& x);
   // Removes `loops` (in the map) and minimizes near their ends (Relax).
   void Remove(const std::vector<int>& loops, int radius, double significant);
   // Minimizes over the junctions within `radius` hops of `loops`' ends, then
@@ -134,8 +162,15 @@ class MaintainedMap {
   // Unmarks `loops` (those in the map); their ends stay junctions.
   void Detach(const std::vector<int>& loops);
 
+  // The chain that holds `pose`, by index into chains_ and firsts_.
+  int ChainOf(int pose) const;
+  bool SameChain(int p, int q) const { return ChainOf(p) == ChainOf(q); }
+  // The condensed odometry from pose `i` to pose `j` > i of its chain.
+  Constraint<Pose> Between(int i, int j) const;
+
   const PoseGraph<Pose>& graph_;
-  const OdometryChain<Pose>& chain_;
+  std::vector<const OdometryChain<Pose>*> chains_;
+  std::vector<int> firsts_;  // each chain's first pose, ascending
   ConvergenceOptions convergence_;
   int most_junctions_;
   Junctions junctions_;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -45,10 +46,45 @@ MaintainedMap<Pose>::MaintainedMap(const PoseGraph<Pose>& graph,
                                    const ConvergenceOptions& convergence,
                                    int most_junctions)
     : graph_(graph),
-      chain_(chain),
+      chains_{&chain},
+      firsts_{0},
       convergence_(convergence),
       most_junctions_(most_junctions) {
   junctions_[0].x = graph.estimates().empty() ? Pose() : graph.estimates()[0];
+}
+
+template <class Pose>
+MaintainedMap<Pose>::MaintainedMap(
+    const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans,
+    const std::vector<OdometryChain<Pose>>& odometry,
+    const ConvergenceOptions& convergence, int most_junctions)
+    : graph_(graph),
+      convergence_(convergence),
+      most_junctions_(most_junctions) {
+  int first = 0;
+  for (size_t c = 0; c < spans.size(); ++c) {
+    chains_.push_back(&odometry.at(c));
+    firsts_.push_back(first);
+    junctions_[first].x = graph.estimates().at(first);
+    first += spans[c].size();
+  }
+}
+
+template <class Pose>
+int MaintainedMap<Pose>::ChainOf(int pose) const {
+  return static_cast<int>(
+             std::upper_bound(firsts_.begin(), firsts_.end(), pose) -
+             firsts_.begin()) -
+         1;
+}
+
+template <class Pose>
+Constraint<Pose> MaintainedMap<Pose>::Between(int i, int j) const {
+  const int c = ChainOf(i);
+  Constraint<Pose> e = chains_[c]->Between(i - firsts_[c], j - firsts_[c]);
+  e.from = i;
+  e.to = j;
+  return e;
 }
 
 template <class Pose>
@@ -69,12 +105,13 @@ Pose MaintainedMap<Pose>::Estimate(int pose) const {
   auto next = junctions_.upper_bound(pose);
   auto prev = std::prev(next);
   if (prev->first == pose) return prev->second.x;
-  const Constraint<Pose> from_prev = chain_.Between(prev->first, pose);
+  const Constraint<Pose> from_prev = Between(prev->first, pose);
   Pose forward = prev->second.x * from_prev.measurement;
-  if (next == junctions_.end()) return forward;
-  return BestBetween(from_prev, prev->second.x,
-                     chain_.Between(pose, next->first), next->second.x,
-                     forward);
+  if (next == junctions_.end() || !SameChain(pose, next->first)) {
+    return forward;
+  }
+  return BestBetween(from_prev, prev->second.x, Between(pose, next->first),
+                     next->second.x, forward);
 }
 
 template <class Pose>
@@ -98,7 +135,7 @@ void MaintainedMap<Pose>::Insert(int pose, bool temporary) {
 template <class Pose>
 void MaintainedMap<Pose>::Release(int pose) {
   const auto it = junctions_.find(pose);
-  if (it == junctions_.end() || pose == 0) return;
+  if (it == junctions_.end() || firsts_[ChainOf(pose)] == pose) return;
   if (it->second.temporary > 0) --it->second.temporary;
   if (it->second.temporary == 0 && it->second.loops.empty()) {
     junctions_.erase(it);
@@ -124,8 +161,11 @@ std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
     next_frontier.clear();
     for (const int p : frontier) {
       const auto it = junctions_.find(p);
-      if (it != junctions_.begin()) visit(std::prev(it)->first, &next_frontier);
-      if (std::next(it) != junctions_.end()) {
+      if (it != junctions_.begin() && SameChain(std::prev(it)->first, p)) {
+        visit(std::prev(it)->first, &next_frontier);
+      }
+      if (std::next(it) != junctions_.end() &&
+          SameChain(p, std::next(it)->first)) {
         visit(std::next(it)->first, &next_frontier);
       }
       for (const int k : it->second.loops) {
@@ -145,7 +185,7 @@ const Constraint<Pose>& MaintainedMap<Pose>::ToNext(
   const int next = std::next(it)->first;
   Junction& j = it->second;
   if (j.next != next) {
-    j.to_next = chain_.Between(it->first, next);
+    j.to_next = Between(it->first, next);
     j.next = next;
   }
   return j.to_next;
@@ -179,13 +219,13 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
     const int p = region[k];
     const auto it = at[k];
     const auto next = std::next(it);
-    if (next != junctions_.end()) {
+    if (next != junctions_.end() && SameChain(p, next->first)) {
       Constraint<Pose> e = ToNext(it);
       e.from = index(p);
       e.to = index(next->first);
       edges.push_back(e);
     }
-    if (it != junctions_.begin()) {
+    if (it != junctions_.begin() && SameChain(std::prev(it)->first, p)) {
       const auto before = std::prev(it);
       if (!std::binary_search(region.begin(), region.end(), before->first)) {
         Constraint<Pose> e = ToNext(before);
@@ -277,6 +317,22 @@ MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius) {
 }
 
 template <class Pose>
+MapTrial MaintainedMap<Pose>::Widen(
+    MapTrial trial, const std::vector<int>& loops, int radius, double gate,
+    double significant, const std::function<bool(const MapTrial&)>& passes,
+    int* tries) {
+  for (int r = 2 * radius; trial.minimize.solved && !passes(trial); r *= 2) {
+    MapTrial wider = Try(loops, r);
+    ++*tries;
+    if (wider.num_free == trial.num_free) break;  // the whole region
+    const double lowered = trial.increase - wider.increase;
+    trial = std::move(wider);
+    if (lowered <= significant || trial.increase - lowered >= gate) break;
+  }
+  return trial;
+}
+
+template <class Pose>
 MapTrial MaintainedMap<Pose>::Retry(const std::vector<int>& loops, int radius,
                                     double significant) {
   const std::vector<int> ends = PosesTouched(graph_, loops);
@@ -352,6 +408,15 @@ void MaintainedMap<Pose>::Add(const std::vector<int>& loops, int radius,
   for (const int p : PosesTouched(graph_, loops)) Insert(p, false);
   Attach(loops);
   Relax(loops, radius, significant);
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::AddAt(const std::vector<int>& loops,
+                                const std::vector<Pose>& x) {
+  last_trial_.reset();
+  for (const int p : PosesTouched(graph_, loops)) Insert(p, false);
+  Attach(loops);
+  for (auto& [pose, j] : junctions_) j.x = x.at(pose);
 }
 
 template <class Pose>

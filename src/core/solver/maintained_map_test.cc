@@ -52,6 +52,28 @@ PoseGraph<Pose> RevisitsWithAFalseLoop(int* false_loop) {
   return graph;
 }
 
+// Revisits() as two sessions: no odometry from pose 249 to pose 250 (the
+// ids skip one there) and the second's estimates moved by 2 m and 0.3 rad;
+// loops 2 and 3 join them.
+template <class Pose>
+PoseGraph<Pose> RevisitsInTwoSessions() {
+  const auto one = Revisits<Pose>();
+  typename Pose::Tangent offset = Pose::Tangent::Zero();
+  offset(0) = 2.0;
+  offset(Pose::kDof - 1) = 0.3;
+  const Pose moved = Pose::Exp(offset);
+  PoseGraph<Pose> two;
+  for (int k = 0; k < one.num_poses(); ++k) {
+    two.AddPose(k < 250 ? k : k + 1,
+                k < 250 ? one.estimates()[k] : moved * one.estimates()[k]);
+  }
+  for (const auto& e : one.odometry()) {
+    if (e.to != 250) two.AddEdge(e);
+  }
+  for (const auto& e : one.loops()) two.AddEdge(e);
+  return two;
+}
+
 template <class Pose>
 class MaintainedMapTest : public ::testing::Test {};
 using Poses = ::testing::Types<Pose2, Pose3>;
@@ -145,6 +167,36 @@ TYPED_TEST(MaintainedMapTest, EstimatesAreNearTheWholeGraphsOptimum) {
         worst, (estimates[k].translation() - optimum[k].translation()).norm());
   }
   EXPECT_LT(worst, 0.25);
+}
+
+TYPED_TEST(MaintainedMapTest, ChainsAreRelatedByTheirLoopsAlone) {
+  const auto graph = RevisitsInTwoSessions<TypeParam>();
+  const std::vector<ChainSpan> spans = ChainSpansOf(graph);
+  ASSERT_EQ(spans.size(), 2u);
+  const std::vector<OdometryChain<TypeParam>> odometry =
+      OdometryOf(graph, spans);
+  MaintainedMap<TypeParam> map(graph, spans, odometry, kTight, kAnyRegion);
+  const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
+  map.Add(accepted, 100, 1e-12);
+  map.Optimize();
+  // The minimum of the two sessions, every pose a variable: the map is near
+  // it (as EstimatesAreNearTheWholeGraphsOptimum; its error 5 % over it in
+  // 2D, 15 % in 3D), the second session placed by loops 2 and 3 alone.
+  const PoseGraphSolver<TypeParam> solver(graph, 1);
+  const std::vector<TypeParam> optimum = solver.Optimize(accepted, kTight);
+  const std::vector<TypeParam> estimates = map.Estimates();
+  const double best = solver.Evaluate(accepted, optimum).total_chi2;
+  EXPECT_LT(solver.Evaluate(accepted, estimates).total_chi2, 1.2 * best);
+  for (const int p : {0, 249, 250, 499}) {
+    EXPECT_LT((estimates[p].translation() - optimum[p].translation()).norm(),
+              0.25)
+        << "pose " << p;
+  }
+  // A trial between the sessions over the whole map: the increase of the
+  // minimum of the two sessions.
+  const double exact = WholeGraphMinimum(graph, {0, 1, 2, 3, 4, 5, 6}) -
+                       WholeGraphMinimum(graph, accepted);
+  EXPECT_NEAR(map.Try({6}, 100).increase, exact, 0.05 * exact);
 }
 
 TEST(MaintainedMap, KeepTrialAddsTheLoopsWithTheTrialsEstimate) {

@@ -62,10 +62,15 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     trial (test "map_bound"): to first order, a link brings at least its
 //     Mahalanobis error at the map's minimum with the covariance of any one
 //     path of measurements between its ends (odometry and accepted loops
-//     between chains), as the map holds that path and more. Otherwise the
-//     map is minimized with them (kMostTrialIterations) and moves to that
-//     minimum if they pass. A cluster of one link is held to the map scale,
-//     several links to the group scale.
+//     between chains), as the map holds that path and more. Otherwise they
+//     are tried as the map procedure tries a cluster: the joined map held
+//     as a MaintainedMap of its chains, minimized over the poses within
+//     `map_radius` hops of their ends (MaintainedMap::Widen for several
+//     links), an upper bound of the whole map's increase; they are
+//     accepted, and the map moves to that minimum, if they pass. After
+//     each acceptance the map is minimized near the new links. A cluster
+//     of one link is held to the map scale, several links to the group
+//     scale.
 //  4. Joined pairs make joined maps (chains joined through a third are in
 //     one map). Every map is minimized with its accepted loops. Loops
 //     between chains never joined are refused (test "apart").

@@ -56,8 +56,9 @@ struct MapVerifierStats {
 //     together are refused as a whole (a group that agrees with itself but
 //     not with the map is a false revisit). Against the map, Δ is the
 //     increase of the map's minimal error, found by minimizing over the
-//     junctions near the links' ends (Widened): an upper bound of the whole
-//     map's, so links the map's estimate fits are accepted without a trial.
+//     junctions near the links' ends (MaintainedMap::Widen): an upper bound of
+//     the whole map's, so links the map's estimate fits are accepted without a
+//     trial.
 //  3. Conflict (RRR's reversal). When the links first fail against the map,
 //     the accepted clusters whose links' errors the trial raised are set
 //     aside one by one, the most strained (over their gate) first, while
@@ -198,14 +199,6 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // `links` against `against`; against the map, over the junctions within
   // `map_radius` hops.
   MapTrial Test(const std::vector<int>& links, Against against);
-  // `trial`, of several links over map_radius hops, failed: `try_over`
-  // (radius) tries them over twice the hops, and again, while that lowers
-  // Δ by more than Significant() (the correction reaches the region's
-  // border), Δ is not over its gate by more than the last widening lowered
-  // it, and the region grows; returns the last trial. Δ over a region bounds
-  // the whole map's from above, so a pass is final.
-  template <class TryOver>
-  MapTrial Widened(MapTrial trial, const TryOver& try_over);
   // Whether `trial` of links against `against` solved, with its error under
   // the gate of its dof and each link's d²_l under the gate of one.
   bool Passes(const MapTrial& trial, Against against) const;

@@ -22,6 +22,7 @@
 #include "rrr/rrr/verdict.h"
 #include "rrr/solver/chain_maps.h"
 #include "rrr/solver/edge_error.h"
+#include "rrr/solver/maintained_map.h"
 #include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
@@ -33,14 +34,6 @@ namespace rrr {
 template <class Pose>
 class PairJudge {
  public:
-  // A trial of links against the joined map starts at its minimum; true
-  // links converge there in 2–3 iterations, while a false one bends the map
-  // for 50–100 (manhattanOlson3500 cut in two). A trial stops after this
-  // many and takes the error reached, which bounds the minimum from above:
-  // as a trial of the map procedure held to its region, a pass is final and
-  // a link that fails may be refused that a longer trial would keep.
-  static constexpr int kMostTrialIterations = 5;
-
   // Judges the candidates of `pair` over the chains `spans` (ascending) at
   // `estimates` with their accepted loops `accepted`: the pair's two chains,
   // each at its own map, or, when they are in one map already, every chain
@@ -56,16 +49,19 @@ class PairJudge {
         pair_graph_(SubGraph(graph, spans, estimates,
                              Concat(accepted, pair->candidates))),
         solver_(pair_graph_, 1),
-        bound_(pair_graph_, spans, OdometryOf(graph, spans)),
+        spans_(EndToEnd(spans)),
+        odometry_(OdometryOf(graph, spans)),
+        bound_(pair_graph_, spans, odometry_),
         first_of_b_(spans.front().size()),
         second_(second),
         num_inside_(static_cast<int>(accepted.size())),
         inside_(Range(0, num_inside_)),
-        apart_error_(
-            solver_.Evaluate(inside_, pair_graph_.estimates()).total_chi2),
         pair_(pair),
         chi2_(options.alpha),
         window_(options.cluster_window),
+        radius_(options.map_radius),
+        most_junctions_(options.map_junctions),
+        convergence_(options.convergence),
         group_scale_(group_scale),
         map_scale_(map_scale),
         verdict_(verdict) {
@@ -107,7 +103,7 @@ class PairJudge {
     if (one_map) {
       Agreeing();
       pair_->joined = true;
-      joined_ = Minimize({}, &brought_, &pair_graph_.estimates());
+      joined_ = Minimize({}, pair_graph_.estimates());
     }
     // Rule 3: the other clusters against the joined map; or none, apart.
     std::vector<std::vector<int>> rest;
@@ -158,6 +154,15 @@ class PairJudge {
     x.insert(x.end(), y.begin(), y.end());
     return x;
   }
+  // `spans` laid end to end from pose 0, as in the pair graph.
+  static std::vector<ChainSpan> EndToEnd(std::vector<ChainSpan> spans) {
+    int first = 0;
+    for (ChainSpan& span : spans) {
+      span = {first, first + span.size() - 1};
+      first = span.last + 1;
+    }
+    return spans;
+  }
   static std::vector<int> Range(int begin, int end) {
     std::vector<int> r(end - begin);
     std::iota(r.begin(), r.end(), begin);
@@ -187,22 +192,12 @@ class PairJudge {
     return x;
   }
 
-  // The two maps minimized with `links` from `start` (default: both maps
-  // placed by the first link); `*brought` is the error the links bring.
-  std::vector<Pose> Minimize(
-      const std::vector<int>& links, double* brought = nullptr,
-      const std::vector<Pose>* start = nullptr,
-      const ConvergenceOptions& convergence = ConvergenceOptions{}) const {
-    const std::vector<Pose> placed =
-        start ? *start
-              : Placed(pair_graph_.estimates(), first_of_b_,
-                       pair_graph_.loops()[num_inside_ + links.front()]);
+  // The chains' maps minimized with their loops and `links` from `start`.
+  std::vector<Pose> Minimize(const std::vector<int>& links,
+                             const std::vector<Pose>& start) const {
     MinimizeResult result;
-    std::vector<Pose> x =
-        solver_.Optimize(Active(links), convergence, &result, &placed);
-    // Not converged, the error reached still bounds the minimum from above.
-    if (brought) *brought = result.final_chi2 - apart_error_;
-    return x;
+    return solver_.Optimize(Active(links), ConvergenceOptions{}, &result,
+                            &start);
   }
 
   // The minimal error of `links` with the odometry alone: the stretches of
@@ -376,64 +371,91 @@ class PairJudge {
     pair_->joined = true;
     pair_->joined_by = {first.index, second.index};
     in_map_ = both;
-    joined_ = Minimize(both, &brought_, &start);
+    joined_ = Minimize(both, start);
     for (const int k : both) {
       Decide(k, true, {DecisionTest::kJoin, rigid, gate, group_scale_, dof});
     }
   }
 
-  // Rule 3 for the clusters `rest` (their open links). Every cluster whose
-  // links' error at the joined map's estimate joined_ is under their gate
-  // is accepted (that error bounds what they bring) and the map minimized
-  // with them, until none fits; then the best fitting one is tried (the map
-  // minimized with it: accepted if what it brings is under the gate), and
-  // so on until every cluster is decided.
+  // Rule 3 for the clusters `rest` (their open links), against the joined
+  // map held as the map procedure holds a chain (MaintainedMap), from its
+  // minimum joined_. Every cluster whose links' error at the map's estimate
+  // is under their gate is accepted (that error bounds what they bring) and
+  // the map minimized near them, until none fits; then the best fitting one
+  // is tried over the poses near its ends (widened for several links): Δ
+  // over a region bounds the whole map's from above, so it is accepted if Δ
+  // is under the gate. Both bounds hold at the map's minimum: a cluster is
+  // refused (by the lower bound or its trial) only there, the whole map
+  // minimized first if it took links since; and so on until every cluster
+  // is decided. joined_ is then the map's estimate.
   void JudgeAgainstJoined(const std::vector<std::vector<int>>& rest) {
+    MaintainedMap<Pose> map(pair_graph_, spans_, odometry_, convergence_,
+                            most_junctions_);
+    map.AddAt(Active(in_map_), joined_);
+    bool at_minimum = true;
+    const double significant = map_scale_ * Pose::kDof;
     std::vector<bool> open(rest.size(), true);
     for (size_t left = rest.size(); left > 0;) {
-      bool fitted = false;
+      std::vector<int> fitted;
       double best = std::numeric_limits<double>::infinity();
       size_t next = 0;
       for (size_t c = 0; c < rest.size(); ++c) {
         if (!open[c]) continue;
-        const DecisionReason reason = FitReason(rest[c], joined_);
+        const DecisionReason reason = FitReason(rest[c], map);
         if (reason.statistic < reason.gate) {
           Accept(rest[c], reason);
+          const std::vector<int> links = Links(rest[c]);
+          fitted.insert(fitted.end(), links.begin(), links.end());
           open[c] = false;
           --left;
-          fitted = true;
         } else if (reason.statistic / reason.gate < best) {
           best = reason.statistic / reason.gate;
           next = c;
         }
       }
-      if (fitted) {
-        joined_ = Minimize(in_map_, &brought_, &joined_);
+      if (!fitted.empty()) {
+        map.Add(fitted, radius_, significant);
+        at_minimum = false;
         continue;
       }
       if (left == 0) break;
-      DecisionReason reason = FitReason(rest[next], joined_);
+      DecisionReason reason = FitReason(rest[next], map);
+      const double least = LeastBrought(rest[next], map.Estimates());
+      const std::vector<int> links = Links(rest[next]);
+      const auto passes = [&](const MapTrial& trial) {
+        return trial.minimize.solved && trial.increase < reason.gate;
+      };
+      MapTrial trial;
+      if (least < reason.gate) {
+        trial = map.Try(links, radius_);
+        if (links.size() > 1) {
+          int tries = 0;
+          trial = map.Widen(trial, links, radius_, reason.gate, significant,
+                            passes, &tries);
+        }
+      }
+      if (least < reason.gate && passes(trial)) {
+        reason.statistic = trial.increase;
+        Accept(rest[next], reason);
+        map.KeepTrial(significant);
+        at_minimum = false;
+      } else if (!at_minimum) {
+        map.Optimize();
+        at_minimum = true;
+        continue;
+      } else {
+        if (least >= reason.gate) {
+          reason.test = DecisionTest::kMapBound;
+          reason.statistic = least;
+        } else {
+          reason.statistic = trial.increase;
+        }
+        for (const int k : rest[next]) Decide(k, false, reason);
+      }
       open[next] = false;
       --left;
-      const double least = LeastBrought(rest[next], joined_);
-      if (least >= reason.gate) {
-        reason.test = DecisionTest::kMapBound;
-        reason.statistic = least;
-        for (const int k : rest[next]) Decide(k, false, reason);
-        continue;
-      }
-      double with;
-      std::vector<Pose> x = Minimize(Concat(in_map_, rest[next]), &with,
-                                     &joined_, {kMostTrialIterations, 1e-9});
-      reason.statistic = with - brought_;
-      if (reason.statistic < reason.gate) {
-        Accept(rest[next], reason);
-        joined_ = std::move(x);
-        brought_ = with;
-      } else {
-        for (const int k : rest[next]) Decide(k, false, reason);
-      }
     }
+    joined_ = map.Estimates();
   }
 
   // A lower bound of what `links` would bring to the joined map, at its
@@ -453,25 +475,16 @@ class PairJudge {
     in_map_ = Concat(in_map_, links);
   }
 
-  // The error of `links` at `x`.
-  double ErrorAt(const std::vector<int>& links,
-                 const std::vector<Pose>& x) const {
-    double sum = 0.0;
-    for (const int k : links) {
-      sum += EdgeChi2(pair_graph_.loops()[num_inside_ + k], x);
-    }
-    return sum;
-  }
-
-  // The error of `links` at `x` against their gate (one link: map scale;
-  // several: group scale).
+  // The error of `links` at the estimate of `map` against their gate (one
+  // link: map scale; several: group scale).
   DecisionReason FitReason(const std::vector<int>& links,
-                           const std::vector<Pose>& x) const {
+                           const MaintainedMap<Pose>& map) const {
     const int n = static_cast<int>(links.size());
     const int dof = Pose::kDof * n;
     const double scale = n == 1 ? map_scale_ : group_scale_;
-    return {DecisionTest::kMap, ErrorAt(links, x), scale * chi2_(dof), scale,
-            dof};
+    double error = 0.0;
+    for (const int k : links) error += map.LoopChi2(num_inside_ + k);
+    return {DecisionTest::kMap, error, scale * chi2_(dof), scale, dof};
   }
 
   bool Decided(int k) const { return decided_.count(k) > 0; }
@@ -487,15 +500,19 @@ class PairJudge {
   const std::vector<Pose> estimates_;  // of every pose of graph_
   const PoseGraph<Pose> pair_graph_;
   const PoseGraphSolver<Pose> solver_;
+  const std::vector<ChainSpan> spans_;  // the chains in pair_graph_
+  const std::vector<OdometryChain<Pose>> odometry_;  // of each of spans_
   const PathBound<Pose> bound_;
   const int first_of_b_;    // in pair_graph_, when it holds the two chains
   const ChainSpan second_;  // the pair's second chain, in graph_
   const int num_inside_;
   const std::vector<int> inside_;
-  const double apart_error_;  // both maps, no link between them
   ChainPair<Pose>* pair_;
   const ChiSquareQuantile chi2_;
   const PoseId window_;
+  const int radius_;
+  const int most_junctions_;
+  const ConvergenceOptions convergence_;
   const double group_scale_;
   const double map_scale_;
   Verdict* verdict_;
@@ -503,7 +520,6 @@ class PairJudge {
   std::map<int, bool> decided_;
   std::vector<int> in_map_;   // the links between the chains accepted so far
   std::vector<Pose> joined_;  // the joined map, once joined
-  double brought_ = 0.0;      // the error they bring to the two maps
 };
 
 }  // namespace rrr

@@ -45,26 +45,6 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
 }
 
 template <class Pose>
-template <class TryOver>
-MapTrial MapVerifier<Pose>::Widened(MapTrial trial, const TryOver& try_over) {
-  for (int radius = 2 * options_.map_radius;
-       trial.minimize.solved && !Passes(trial, Against::kMap); radius *= 2) {
-    MapTrial wider = try_over(radius);
-    ++stats_.trials;
-    this->CountSolves(1);
-    if (wider.num_free == trial.num_free) break;  // the whole region
-    const double lowered = trial.increase - wider.increase;
-    trial = std::move(wider);
-    // The correction fades as the region grows: once Δ exceeds its gate by
-    // more than the last widening lowered it, no further one brings it under.
-    const double gate = Gate(
-        Against::kMap, Pose::kDof * static_cast<int>(trial.loop_chi2.size()));
-    if (lowered <= Significant() || trial.increase - lowered >= gate) break;
-  }
-  return trial;
-}
-
-template <class Pose>
 bool MapVerifier<Pose>::Passes(const MapTrial& trial, Against against) const {
   const double one_link = Gate(against, Pose::kDof);
   const int dof = Pose::kDof * static_cast<int>(trial.loop_chi2.size());
@@ -176,8 +156,13 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
   MapTrial trial = Test(links, Against::kMap);
   if (!Passes(trial, Against::kMap) && links.size() > 1) {
     // A group may fail only by the region's held border.
-    const MapTrial wide =
-        Widened(trial, [&](int radius) { return map_->Try(links, radius); });
+    int tries = 0;
+    const MapTrial wide = map_->Widen(
+        trial, links, options_.map_radius,
+        Gate(Against::kMap, e * static_cast<int>(links.size())), Significant(),
+        [&](const MapTrial& t) { return Passes(t, Against::kMap); }, &tries);
+    stats_.trials += tries;
+    this->CountSolves(tries);
     if (Passes(wide, Against::kMap)) {
       Accept(c, links, wide.increase, true);
       return;
