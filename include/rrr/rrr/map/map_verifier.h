@@ -33,55 +33,26 @@ struct MapVerifierStats {
   double a_posteriori_scale = 0.0;  // MapVerifier::APosterioriScale at the end
 };
 
-// The "map" procedure (README, "The rule"). Clusters form in arrival order;
-// one is ready when the robot has moved `cluster_window` poses past its last
-// loop, or when its later stretch spans kClusterSpanWindows windows (it is
-// then closed). Ready clusters are judged one at a time, in the order of the
-// pose at which they became ready. Every test compares an error with a gate
-// s·χ²(α, dof), the χ² test of exactly the error the links bring; s comes
-// from NoiseScaleEstimate (part 1 of the rule) in one of two forms: the
-// map's (MapScaleAt) for one link against the map, the larger group scale
-// (GroupScaleAt) for every test whose error holds the odometry's drift
-// between the revisits: a loop or a cluster against the odometry alone, and
-// several links together against the map. The other parts:
-//  2. The links of a cluster that agree. A loop the odometry alone refutes
-//     is refused (DecisionTest::kAlone). The rest is tested against the
-//     odometry alone (the cluster's own consistency, which no wrong
-//     acceptance can have bent; kOwnLink, kOwn), then against the map,
-//     odometry and accepted loops (kMapLink, kMap), with one rule: the
-//     links pass when their error is under the gate of their dof and each
-//     link's d²_l under the gate of one; while they do not, the worst link
-//     is refused if what it brings, Δ with it minus Δ without it, exceeds
-//     the gate of one link; once no link stands out, links that still fail
-//     together are refused as a whole (a group that agrees with itself but
-//     not with the map is a false revisit). Against the map, Δ is the
-//     increase of the map's minimal error, found by minimizing over the
-//     junctions near the links' ends (MaintainedMap::Widen): an upper bound of
-//     the whole map's, so links the map's estimate fits are accepted without a
-//     trial.
-//  3. Conflict (RRR's reversal). When the links first fail against the map,
-//     the accepted clusters whose links' errors the trial raised are set
-//     aside one by one, the most strained (over their gate) first, while
-//     the links do not fit; one whose removal does not lower the links' Δ
-//     by more than Significant() is not in the conflict and goes back. If
-//     they then fit, the set-aside clusters stay out (kOutweighed) when
-//     they are the less consistent in the joint solve (RRR's consistency
-//     index: what each brings to the map with the other, over its gate)
-//     and the exchange keeps more links in the map than part 2 alone
-//     would; else they return.
-//  4. The arbiter. After every whole-map minimization (`optimize_every`)
-//     and every reversal, until nothing changes (at most kMostArbiterRounds
-//     rounds), a cluster in doubt is judged again: one whose acceptance no
-//     longer holds (an accepted link's Δ over the gate in force, or its
-//     links over their gates at the map's estimate), and one the map holds
-//     nothing of whose loop, refused by the odometry alone, passes that
-//     test under the scale in force (nothing else spoke against it), and
-//     one refused against the map while a cluster that is now out of it
-//     was in it (the decision's premise is gone). The refused links of
-//     other clusters that the map's estimate now fits, each alone and with
-//     the cluster's accepted links, are accepted. A refused link of a
-//     cluster in the map comes back when the map agrees with it, not
-//     because the gates widened: accepting is the risky way.
+// The "map" procedure. Its four parts and the reason of each are stated once,
+// in the README's "The rule"; here is where each lives. Clusters form in
+// arrival order; one is ready when the robot has moved `cluster_window` poses
+// past its last loop, or when its later stretch spans kClusterSpanWindows
+// windows (it is then closed). Ready clusters are judged one at a time, in
+// the order of the pose at which they became ready. Every test compares an
+// error with a gate s·χ²(α, dof) (Gate), s from NoiseScaleEstimate (part 1):
+// MapScaleAt for one link against the map, GroupScaleAt for every test whose
+// error holds the odometry's drift between the revisits (a loop or a cluster
+// against the odometry alone, several links against the map).
+//  2. JudgeCluster, JudgeAgainstMap and KeepAgreeing choose the links that
+//     agree: against the odometry alone (tests kAlone, kOwnLink, kOwn), then
+//     against the map (kMapLink, kMap), where Δ is found over the junctions
+//     near the links' ends (MaintainedMap::Try, widened for several links by
+//     MaintainedMap::Widen): an upper bound of the whole map's, so a pass is
+//     final, and links the map's estimate fits are accepted without a trial.
+//  3. Outweigh resolves a conflict by RRR's consistency index (kOutweighed).
+//  4. Arbitrate judges again the clusters in doubt (InDoubt) after every
+//     whole-map minimization (`optimize_every`) and every reversal, until
+//     nothing changes or kMostArbiterRounds rounds.
 // With an estimated scale, no cluster is judged before
 // NoiseScaleEstimate::kMinLoopSamples loops have sampled it (or Finish()).
 // The clusters ready at a pose are judged once the next pose exists (or at
