@@ -23,6 +23,7 @@ set(RRR_CORE_SOURCES
   src/core/solver/chordal_initialization.cc
   src/core/solver/local_problem.cc
   src/core/solver/maintained_map.cc
+  src/core/solver/maintained_map_state.cc
   src/core/solver/condensed_solve.cc
   src/core/solver/pose_graph_solver.cc
   src/core/solver/process_memory.cc

@@ -123,7 +123,8 @@ class MaintainedMap {
   // Writes the junctions, their estimates bit for bit, the map's loops and
   // the last trial; Restore reads them into a map of the same graph and
   // chain, which then equals this one. Throws std::runtime_error if the
-  // state names a pose or loop the graph does not have.
+  // state names a pose or loop the graph does not have
+  // (maintained_map_state.cc).
   void Save(ByteWriter* out) const;
   void Restore(ByteReader* in);
 

@@ -1,0 +1,88 @@
+// MaintainedMap's state written and read back (Save, Restore).
+#include <stdexcept>
+#include <string>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/solver/maintained_map.h"
+
+namespace rrr {
+
+template <class Pose>
+void MaintainedMap<Pose>::Save(ByteWriter* out) const {
+  out->Int(static_cast<std::int64_t>(junctions_.size()));
+  for (const auto& [pose, j] : junctions_) {
+    out->Int(pose);
+    out->PoseParts(j.x);
+    out->Ints(j.loops);
+    out->Int(j.temporary);
+  }
+  std::vector<int> in_map;
+  for (size_t k = 0; k < in_map_.size(); ++k) {
+    if (in_map_[k]) in_map.push_back(static_cast<int>(k));
+  }
+  out->Ints(in_map);
+  out->Int(last_trial_ ? 1 : 0);
+  if (!last_trial_) return;
+  out->Ints(last_trial_->loops);
+  out->Int(last_trial_->radius);
+  out->Int(static_cast<std::int64_t>(last_trial_->estimate.size()));
+  for (const auto& [pose, x] : last_trial_->estimate) {
+    out->Int(pose);
+    out->PoseParts(x);
+  }
+}
+
+template <class Pose>
+void MaintainedMap<Pose>::Restore(ByteReader* in) {
+  const auto checked_pose = [&](std::int64_t pose) {
+    if (pose < 0 || pose >= graph_.num_poses()) {
+      throw std::runtime_error("the map names pose " + std::to_string(pose) +
+                               " of a graph of " +
+                               std::to_string(graph_.num_poses()));
+    }
+    return static_cast<int>(pose);
+  };
+  const auto checked_loops = [&](std::vector<int> loops) {
+    for (const int k : loops) {
+      if (k < 0 || k >= static_cast<int>(graph_.loops().size())) {
+        throw std::runtime_error("the map names loop " + std::to_string(k) +
+                                 " of a graph of " +
+                                 std::to_string(graph_.loops().size()));
+      }
+    }
+    return loops;
+  };
+  junctions_.clear();
+  const size_t n = in->Count("junctions", sizeof(typename Pose::Parts));
+  for (size_t k = 0; k < n; ++k) {
+    Junction& j = junctions_[checked_pose(in->Int("a junction"))];
+    j.x = in->template PoseParts<Pose>("a junction's estimate");
+    j.loops = checked_loops(in->Ints("a junction's loops"));
+    j.temporary = static_cast<int>(in->Int("a junction's tries"));
+  }
+  in_map_.assign(graph_.loops().size(), false);
+  num_loops_ = 0;
+  for (const int k : checked_loops(in->Ints("the map's loops"))) {
+    in_map_[k] = true;
+    ++num_loops_;
+  }
+  last_trial_.reset();
+  if (in->Int("whether a trial is kept") == 0) return;
+  last_trial_ = std::make_unique<KeptTrial>();
+  last_trial_->loops = checked_loops(in->Ints("the kept trial's loops"));
+  last_trial_->radius = static_cast<int>(in->Int("the kept trial's radius"));
+  last_trial_->estimate.resize(
+      in->Count("the kept trial's estimate", sizeof(typename Pose::Parts)));
+  for (auto& [pose, x] : last_trial_->estimate) {
+    pose = checked_pose(in->Int("a kept trial's pose"));
+    x = in->template PoseParts<Pose>("a kept trial's estimate");
+  }
+}
+
+template void MaintainedMap<Pose2>::Save(ByteWriter*) const;
+template void MaintainedMap<Pose3>::Save(ByteWriter*) const;
+template void MaintainedMap<Pose2>::Restore(ByteReader*);
+template void MaintainedMap<Pose3>::Restore(ByteReader*);
+
+}  // namespace rrr
