@@ -399,18 +399,20 @@ class PairJudge {
       std::vector<int> fitted;
       double best = std::numeric_limits<double>::infinity();
       size_t next = 0;
+      DecisionReason reason;  // of `next`
       for (size_t c = 0; c < rest.size(); ++c) {
         if (!open[c]) continue;
-        const DecisionReason reason = FitReason(rest[c], map);
-        if (reason.statistic < reason.gate) {
-          Accept(rest[c], reason);
+        const DecisionReason fit = FitReason(rest[c], map);
+        if (fit.statistic < fit.gate) {
+          Accept(rest[c], fit);
           const std::vector<int> links = Links(rest[c]);
           fitted.insert(fitted.end(), links.begin(), links.end());
           open[c] = false;
           --left;
-        } else if (reason.statistic / reason.gate < best) {
-          best = reason.statistic / reason.gate;
+        } else if (fit.statistic / fit.gate < best) {
+          best = fit.statistic / fit.gate;
           next = c;
+          reason = fit;
         }
       }
       if (!fitted.empty()) {
@@ -419,8 +421,7 @@ class PairJudge {
         continue;
       }
       if (left == 0) break;
-      DecisionReason reason = FitReason(rest[next], map);
-      const double least = LeastBrought(rest[next], map.Estimates());
+      const double least = LeastBrought(rest[next], map);
       const std::vector<int> links = Links(rest[next]);
       const auto passes = [&](const MapTrial& trial) {
         return trial.minimize.solved && trial.increase < reason.gate;
@@ -459,15 +460,17 @@ class PairJudge {
   }
 
   // A lower bound of what `links` would bring to the joined map, at its
-  // minimum `x` (PathBound), through the accepted loops between chains.
+  // minimum, the estimate of `map` (PathBound), through the accepted loops
+  // between chains.
   double LeastBrought(const std::vector<int>& links,
-                      const std::vector<Pose>& x) const {
+                      const MaintainedMap<Pose>& map) const {
     std::vector<int> hops = Links(in_map_);
     for (const int k : inside_) {
       const auto& e = pair_graph_.loops()[k];
       if (!bound_.SameChain(e.from, e.to)) hops.push_back(k);
     }
-    return bound_.Least(Links(links), hops, x);
+    return bound_.Least(Links(links), hops,
+                        [&](int pose) { return map.Estimate(pose); });
   }
 
   void Accept(const std::vector<int>& links, const DecisionReason& reason) {

@@ -40,16 +40,18 @@ class PathBound {
   bool SameChain(int p, int q) const { return SpanAt(p) == SpanAt(q); }
 
   // The largest bound over the loops `loops` (of the graph) and the paths
-  // through the loops `hops` (of the graph, between chains) at `x`, the
-  // map's minimum: odometry, and the hops (PathsBetween). 0 while no path
-  // leads.
+  // through the loops `hops` (of the graph, between chains) at the map's
+  // minimum, whose pose p is `estimate(p)` (asked for the loops' ends only):
+  // odometry, and the hops (PathsBetween). 0 while no path leads.
+  template <class Estimate>
   double Least(const std::vector<int>& loops, const std::vector<int>& hops,
-               const std::vector<Pose>& x) const {
+               const Estimate& estimate) const {
     double least = 0.0;
     for (const int k : loops) {
       const auto& e = graph_.loops()[k];
+      const Pose relative = estimate(e.from).between(estimate(e.to));
       for (const UncertainPose<Pose>& path : PathsBetween(e.from, e.to, hops)) {
-        const UncertainPose<Pose> map{x[e.from].between(x[e.to]), path.cov};
+        const UncertainPose<Pose> map{relative, path.cov};
         least = std::max(least,
                          (map.Inverse() * MeasurementOf(e)).SquaredDistance());
       }
