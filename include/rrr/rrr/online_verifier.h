@@ -15,6 +15,7 @@
 #include "rrr/io/byte_stream.h"
 #include "rrr/rrr/decision_reason.h"
 #include "rrr/rrr/options.h"
+#include "rrr/rrr/verdict.h"
 
 namespace rrr {
 
@@ -193,6 +194,13 @@ std::vector<int> FeedInArrivalOrder(
     const std::function<void(const std::vector<DecisionChange>&)>& on_changes =
         nullptr,
     int loop_lag = 0);
+
+// The decisions of `verifier` as a verdict over `num_loops` loops, its
+// candidate c being loop loop_of_candidate[c] (-1: none); a loop that is no
+// candidate is in neither list.
+template <class Pose>
+Verdict VerdictOf(const OnlineVerifier<Pose>& verifier,
+                  const std::vector<int>& loop_of_candidate, int num_loops);
 
 }  // namespace rrr
 

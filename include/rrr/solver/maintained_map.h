@@ -95,10 +95,6 @@ class MaintainedMap {
                  double gate, double significant,
                  const std::function<bool(const MapTrial&)>& passes,
                  int* tries);
-  // What `loops`, all in the map, bring to it: Try() on the map as
-  // Remove(loops, radius, significant) would leave it. The map is unchanged
-  // (and the last Try() dropped).
-  MapTrial Retry(const std::vector<int>& loops, int radius, double significant);
   // Adds the loops of the last Try() with the estimate it found, then
   // relaxes as Relax(loops, 2 · its radius, significant). Throws
   // std::logic_error if the map changed since (another Try, Add, Remove or

@@ -271,6 +271,31 @@ std::vector<int> FeedInArrivalOrder(
   return loop_of_candidate;
 }
 
+template <class Pose>
+Verdict VerdictOf(const OnlineVerifier<Pose>& verifier,
+                  const std::vector<int>& loop_of_candidate, int num_loops) {
+  Verdict verdict;
+  verdict.cluster_of_loop.assign(num_loops, -1);
+  verdict.reasons.resize(num_loops);
+  verdict.clusters.resize(verifier.num_clusters());
+  for (int c = 0; c < verifier.num_candidates(); ++c) {
+    const int k = loop_of_candidate[c];
+    if (k < 0) continue;
+    verdict.cluster_of_loop[k] = verifier.cluster_of(c);
+    verdict.reasons[k] = verifier.reason(c);
+    (verifier.state(c) == LoopState::kAccepted ? verdict.accepted
+                                               : verdict.rejected)
+        .push_back(k);
+  }
+  std::sort(verdict.accepted.begin(), verdict.accepted.end());
+  std::sort(verdict.rejected.begin(), verdict.rejected.end());
+  for (int k = 0; k < num_loops; ++k) {
+    const int cluster = verdict.cluster_of_loop[k];
+    if (cluster >= 0) verdict.clusters[cluster].loops.push_back(k);
+  }
+  return verdict;
+}
+
 template class OnlineVerifier<Pose2>;
 template class OnlineVerifier<Pose3>;
 template std::vector<int> FeedInArrivalOrder(
@@ -279,5 +304,9 @@ template std::vector<int> FeedInArrivalOrder(
 template std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose3>&, OnlineVerifier<Pose3>*, int,
     const std::function<void(const std::vector<DecisionChange>&)>&, int);
+template Verdict VerdictOf(const OnlineVerifier<Pose2>&,
+                           const std::vector<int>&, int);
+template Verdict VerdictOf(const OnlineVerifier<Pose3>&,
+                           const std::vector<int>&, int);
 
 }  // namespace rrr

@@ -333,24 +333,6 @@ MapTrial MaintainedMap<Pose>::Widen(
 }
 
 template <class Pose>
-MapTrial MaintainedMap<Pose>::Retry(const std::vector<int>& loops, int radius,
-                                    double significant) {
-  const std::vector<int> ends = PosesTouched(graph_, loops);
-  for (const int p : ends) Insert(p, true);  // junctions while out of the map
-  const Junctions before = junctions_;
-  const int num_loops = num_loops_;
-  Detach(loops);
-  Relax(loops, radius, significant);
-  MapTrial trial = Try(loops, radius);
-  junctions_ = before;
-  for (const int k : loops) in_map_[k] = true;
-  num_loops_ = num_loops;
-  for (const int p : ends) Release(p);
-  last_trial_.reset();
-  return trial;
-}
-
-template <class Pose>
 void MaintainedMap<Pose>::KeepTrial(double significant) {
   if (!last_trial_) throw std::logic_error("no trial to keep");
   const std::unique_ptr<KeptTrial> trial = std::move(last_trial_);

@@ -247,34 +247,5 @@ TEST(MaintainedMap, RemovingALoopRestoresTheMapWithoutIt) {
       0.01);
 }
 
-TYPED_TEST(MaintainedMapTest, RetryIsTryWithoutTheLoopsAndChangesNothing) {
-  const auto graph = Revisits<TypeParam>();
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
-  MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
-  map.Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
-  map.Optimize();
-  const std::vector<TypeParam> before = map.Estimates();
-  const int junctions = map.num_junctions();
-  const MapTrial retried = map.Retry({2, 3}, 6, 1e-9);
-  EXPECT_TRUE(map.Contains(2));
-  EXPECT_TRUE(map.Contains(3));
-  EXPECT_EQ(map.num_loops(), 6);
-  EXPECT_EQ(map.num_junctions(), junctions);
-  const std::vector<TypeParam> after = map.Estimates();
-  for (size_t k = 0; k < before.size(); ++k) {
-    EXPECT_EQ(after[k].Log(), before[k].Log()) << k;
-  }
-  EXPECT_THROW(map.KeepTrial(1e-9), std::logic_error);
-  // The same as taking them out and trying them.
-  map.Remove({2, 3}, 6, 1e-9);
-  const MapTrial tried = map.Try({2, 3}, 6);
-  EXPECT_GT(retried.increase, 0.0);
-  EXPECT_NEAR(retried.increase, tried.increase, 1e-6 * tried.increase);
-  ASSERT_EQ(retried.loop_chi2.size(), 2u);
-  for (size_t k = 0; k < 2; ++k) {
-    EXPECT_NEAR(retried.loop_chi2[k], tried.loop_chi2[k], 1e-6);
-  }
-}
-
 }  // namespace
 }  // namespace rrr

@@ -27,10 +27,10 @@ struct MapVerifierStats {
   int rejudged = 0;          // clusters the arbiter judged again
   int optimizations = 0;     // whole-map minimizations
   int not_converged = 0;     // deciding minimizations stopped by the limit
-  double noise_scale = 1.0;  // MapScaleAt the end
-  double group_noise_scale = 1.0;   // GroupScaleAt the end
+  double noise_scale = 1.0;  // MapScaleAt the newest pose
+  double group_noise_scale = 1.0;   // GroupScaleAt the newest pose
   std::string noise_scale_source;   // see OnlineVerifier::noise_scale_source
-  double a_posteriori_scale = 0.0;  // MapVerifier::APosterioriScale at the end
+  double a_posteriori_scale = 0.0;  // MapVerifier::APosterioriScale
 };
 
 // The "map" procedure. Its four parts and the reason of each are stated once,
@@ -86,7 +86,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
     return static_cast<int>(clustering_.clusters().size());
   }
   DecisionReason reason(int candidate) const override;
-  const MapVerifierStats& stats() const { return stats_; }
+  // The counters, and the scales as of the newest pose.
+  MapVerifierStats stats() const;
   // The scale of a test of one link against the map, for a decision as of
   // pose index `pose`: RrrOptions::noise_scale if set, else noise_margin
   // times NoiseScaleEstimate::ValueAt.
@@ -177,9 +178,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // kept (empty: all refused), with `*trial` their test.
   std::vector<int> KeepAgreeing(std::vector<int> links, Against against,
                                 MapTrial* trial);
-  // Whether `links` pass at the map's estimate (their error there bounds
-  // Δ); sets `*sum` to their error there.
-  bool PassAtEstimate(const std::vector<int>& links, double* sum) const;
+  // `links` at the map's estimate, as a trial: their error there bounds Δ.
+  MapTrial AtEstimate(const std::vector<int>& links) const;
   // Part 3 for `links` of `c`, which failed `failed`, of which part 2 keeps
   // `kept`: returns whether they were accepted in place of accepted
   // clusters with fewer links in all than the difference. Records the

@@ -22,15 +22,6 @@ Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
                       std::vector<Pose>* map = nullptr,
                       MapVerifierStats* stats = nullptr);
 
-// The decisions of `verifier` as a verdict over the loops of its graph, its
-// candidate c being loop loop_of_candidate[c] of `num_loops` (every loop a
-// candidate); sets `*map` to its map and `*stats` to its statistics if given.
-template <class Pose>
-Verdict VerdictOfVerifier(MapVerifier<Pose>* verifier,
-                          const std::vector<int>& loop_of_candidate,
-                          int num_loops, std::vector<Pose>* map = nullptr,
-                          MapVerifierStats* stats = nullptr);
-
 }  // namespace rrr
 
 #endif  // RRR_RRR_MAP_VERIFY_WITH_MAP_H_

@@ -9,7 +9,6 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/candidate_defect.h"
-#include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/solver/chain_maps.h"
 
 namespace rrr {
@@ -289,8 +288,9 @@ typename ChainsVerifier<Pose>::Judgement ChainsVerifier<Pose>::Snapshot() {
     for (int k = 0; k < chain->num_candidates(); ++k) {
       loop_of_candidate[k] = chain->loop_of(k);
     }
-    j.alone[c].verdict = VerdictOfVerifier(chain, loop_of_candidate, num_loops,
-                                           &j.alone[c].map, &j.alone[c].stats);
+    j.alone[c].verdict = VerdictOf(*chain, loop_of_candidate, num_loops);
+    j.alone[c].map = chain->Map();
+    j.alone[c].stats = chain->stats();
     for (int k = 0; k < num_loops; ++k) {
       j.alone[c].inside.push_back(j.first_between++);
     }

@@ -8,11 +8,11 @@
 #include <limits>
 #include <map>
 #include <numeric>
-#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "path_bound.h"
+#include "rigid_fit.h"
 #include "rrr/graph/chain_spans.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/io/g2o.h"
@@ -21,7 +21,6 @@
 #include "rrr/rrr/options.h"
 #include "rrr/rrr/verdict.h"
 #include "rrr/solver/chain_maps.h"
-#include "rrr/solver/edge_error.h"
 #include "rrr/solver/maintained_map.h"
 #include "rrr/solver/pose_graph_solver.h"
 
@@ -179,19 +178,6 @@ class PairJudge {
     return out;
   }
 
-  // `x` (poses of `g`, the second chain's from `first_of_b` on) with the
-  // second chain moved so that the link `e` of `g` holds exactly.
-  static std::vector<Pose> Placed(std::vector<Pose> x, int first_of_b,
-                                  const Constraint<Pose>& e) {
-    const bool from_a = e.from < first_of_b;
-    const int i = from_a ? e.from : e.to;
-    const int j = from_a ? e.to : e.from;
-    const Pose z = from_a ? e.measurement : e.measurement.inverse();
-    const Pose moved = x[i] * z * x[j].inverse();
-    for (size_t p = first_of_b; p < x.size(); ++p) x[p] = moved * x[p];
-    return x;
-  }
-
   // The chains' maps minimized with their loops and `links` from `start`.
   std::vector<Pose> Minimize(const std::vector<int>& links,
                              const std::vector<Pose>& start) const {
@@ -217,7 +203,7 @@ class PairJudge {
     const PoseGraph<Pose> own = SubGraph(graph_, {a, b}, estimates_, loops);
     const PoseGraphSolver<Pose> solver(own, 1);
     const std::vector<Pose> start =
-        Placed(solver.initial(), a.size(), own.loops().front());
+        PlacedBy(own.loops().front(), a.size(), solver.initial());
     MinimizeResult result;
     solver.Optimize(AllLoops(own), ConvergenceOptions{}, &result, &start);
     return result.final_chi2;
@@ -290,70 +276,9 @@ class PairJudge {
     return false;
   }
 
-  // The least error of `links` (into pair_->candidates) with both chains'
-  // maps held as they are and only the second's frame free, and in
-  // `*relative` that frame in the first's (Gauss–Newton from the placement
-  // by the first link, while the error decreases).
-  double RigidError(const std::vector<int>& links, Pose* relative) const {
-    const std::vector<Pose>& x = pair_graph_.estimates();
-    const auto edge = [&](int k) -> const Constraint<Pose>& {
-      return pair_graph_.loops()[num_inside_ + k];
-    };
-    // Orients a link from the first chain to the second.
-    const auto ends = [&](const Constraint<Pose>& e) {
-      return e.from < first_of_b_
-                 ? std::make_tuple(e.from, e.to, e.measurement)
-                 : std::make_tuple(e.to, e.from, e.measurement.inverse());
-    };
-    const auto [a0, b0, z0] = ends(edge(links.front()));
-    Pose m = x[a0] * z0 * x[b0].inverse();
-    const auto moved = [&](int p, const Pose& frame) {
-      return p < first_of_b_ ? x[p] : frame * x[p];
-    };
-    const auto error = [&](const Pose& frame) {
-      double sum = 0.0;
-      for (const int k : links) {
-        const Constraint<Pose>& e = edge(k);
-        const typename Pose::Tangent r = EdgeResidual(
-            e.measurement, moved(e.from, frame), moved(e.to, frame));
-        sum += r.dot(e.information * r);
-      }
-      return sum;
-    };
-    double chi2 = error(m);
-    const ConvergenceOptions convergence;
-    for (int it = 0; it < convergence.max_iterations; ++it) {
-      typename Pose::Jacobian h = Pose::Jacobian::Zero();
-      typename Pose::Tangent g = Pose::Tangent::Zero();
-      for (const int k : links) {
-        const Constraint<Pose>& e = edge(k);
-        typename Pose::Jacobian ji, jj;
-        const typename Pose::Tangent r = EdgeResidualAndJacobians(
-            e.measurement, moved(e.from, m), moved(e.to, m), &ji, &jj);
-        // The second chain's pose b moves as m·Exp(δ)·b = m·b·Exp(Ad(b⁻¹)δ).
-        const bool second_is_to = e.from < first_of_b_;
-        const Pose& b = x[second_is_to ? e.to : e.from];
-        const typename Pose::Jacobian j =
-            (second_is_to ? jj : ji) * b.inverse().Adjoint();
-        h += j.transpose() * e.information * j;
-        g += j.transpose() * e.information * r;
-      }
-      const Pose next = m * Pose::Exp(-h.ldlt().solve(g));
-      const double next_chi2 = error(next);
-      if (!(next_chi2 < chi2)) break;
-      const bool small =
-          chi2 - next_chi2 < convergence.relative_decrease * chi2;
-      m = next;
-      chi2 = next_chi2;
-      if (small) break;
-    }
-    *relative = m;
-    return chi2;
-  }
-
   // Rule 2 for `first` and `second`: joins the chains and sets joined_ to
   // the joined map if they agree on one placement of the second chain's
-  // map in the first's frame (RigidError: no bending of either map, which
+  // map in the first's frame (RigidFit: no bending of either map, which
   // could make far-apart clusters agree by absorbing the difference in
   // their drift).
   void TryJoin(const PairCluster& first, const PairCluster& second) {
@@ -362,7 +287,8 @@ class PairJudge {
     const int dof = Pose::kDof * (static_cast<int>(both.size()) - 1);
     const double gate = group_scale_ * chi2_(dof);
     Pose relative;
-    const double rigid = RigidError(both, &relative);
+    const double rigid =
+        RigidFit(pair_graph_, Links(both), first_of_b_, &relative);
     if (!(rigid < gate)) return;
     std::vector<Pose> start = pair_graph_.estimates();
     for (size_t p = first_of_b_; p < start.size(); ++p) {

@@ -56,6 +56,16 @@ std::string MapVerifier<Pose>::noise_scale_source() const {
 }
 
 template <class Pose>
+MapVerifierStats MapVerifier<Pose>::stats() const {
+  MapVerifierStats stats = stats_;
+  stats.noise_scale = noise_scale();
+  stats.group_noise_scale = group_noise_scale();
+  stats.noise_scale_source = noise_scale_source();
+  stats.a_posteriori_scale = APosterioriScale();
+  return stats;
+}
+
+template <class Pose>
 DecisionReason MapVerifier<Pose>::reason(int candidate) const {
   const int loop = this->loop_of(candidate);
   if (loop < 0 || loop >= static_cast<int>(reasons_.size())) return {};
