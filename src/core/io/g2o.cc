@@ -3,9 +3,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <charconv>
 #include <fstream>
-#include <iomanip>
-#include <limits>
+#include <initializer_list>
 #include <optional>
 #include <set>
 
@@ -28,6 +28,19 @@ struct PendingEdge {
   std::vector<double> values;
 };
 
+// Writes `values` separated by spaces, each in the shortest form that reads
+// back as the same double.
+void WriteNumbers(std::initializer_list<double> values, std::ostream& out) {
+  char text[32];
+  bool first = true;
+  for (const double v : values) {
+    if (!first) out.put(' ');
+    first = false;
+    const std::to_chars_result end = std::to_chars(text, text + sizeof text, v);
+    out.write(text, end.ptr - text);
+  }
+}
+
 // Pose and information layouts of the two supported element types.
 template <class Pose>
 struct G2oTraits;
@@ -41,7 +54,7 @@ struct G2oTraits<Pose2> {
     return Pose2(v[0], v[1], v[2]);
   }
   static void WritePose(const Pose2& p, std::ostream& out) {
-    out << p.x() << ' ' << p.y() << ' ' << p.theta();
+    WriteNumbers({p.x(), p.y(), p.theta()}, out);
   }
 };
 
@@ -64,8 +77,7 @@ struct G2oTraits<Pose3> {
   static void WritePose(const Pose3& p, std::ostream& out) {
     const Eigen::Vector3d& t = p.translation();
     const Eigen::Quaterniond& q = p.quaternion();
-    out << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y()
-        << ' ' << q.z() << ' ' << q.w();
+    WriteNumbers({t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}, out);
   }
 };
 
@@ -285,8 +297,6 @@ template <class Pose>
 void WriteG2o(const PoseGraph<Pose>& graph, const std::vector<Pose>& estimates,
               const std::vector<int>& loops, std::ostream& out) {
   using Traits = G2oTraits<Pose>;
-  const auto old_precision =
-      out.precision(std::numeric_limits<double>::max_digits10);
   const auto& ids = graph.ids();
   for (int k = 0; k < graph.num_poses(); ++k) {
     out << Traits::kVertexTag << ' ' << ids[k] << ' ';
@@ -298,13 +308,15 @@ void WriteG2o(const PoseGraph<Pose>& graph, const std::vector<Pose>& estimates,
     out << Traits::kEdgeTag << ' ' << ids[e.from] << ' ' << ids[e.to] << ' ';
     Traits::WritePose(e.measurement, out);
     for (int r = 0; r < Pose::kDof; ++r) {
-      for (int c = r; c < Pose::kDof; ++c) out << ' ' << e.information(r, c);
+      for (int c = r; c < Pose::kDof; ++c) {
+        out.put(' ');
+        WriteNumbers({e.information(r, c)}, out);
+      }
     }
     out << '\n';
   };
   for (const auto& e : graph.odometry()) write_edge(e);
   for (const int k : loops) write_edge(graph.loops().at(k));
-  out.precision(old_precision);
 }
 
 template <class Pose>

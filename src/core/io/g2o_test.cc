@@ -107,6 +107,35 @@ void ExpectSameGraph(const PoseGraph<Pose>& g, const PoseGraph<Pose>& h) {
   same_edges(h.loops(), g.loops());
 }
 
+TEST(G2o, WritesEachNumberInItsShortestExactForm) {
+  PoseGraph2 g;
+  g.AddPose(0, Pose2(0.1, 1.0 / 3.0, -2.5e-300));
+  g.AddPose(1, Pose2(-7e17, 1234.5, 3.0));
+  Constraint<Pose2> e;
+  e.from = 0;
+  e.to = 1;
+  e.measurement = Pose2(0.1, 0.2, 0.3);
+  e.information = Eigen::Matrix3d::Identity() * 1e-5;
+  g.AddEdge(e);
+  std::ostringstream out;
+  WriteG2o(g, g.estimates(), {}, out);
+  // The shortest text of each value, not 17 digits ("0.10000000000000001").
+  EXPECT_NE(out.str().find("VERTEX_SE2 0 0.1 0.3333333333333333 -2.5e-300\n"),
+            std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("EDGE_SE2 0 1 0.1 0.2 0.3 1e-05 0 0 1e-05 0 1e-05"),
+            std::string::npos)
+      << out.str();
+  // Each reads back as the same double, bit for bit.
+  const auto h = std::get<PoseGraph2>(Parse(out.str()).graph);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(h.estimates()[k].x(), g.estimates()[k].x()) << k;
+    EXPECT_EQ(h.estimates()[k].y(), g.estimates()[k].y()) << k;
+    EXPECT_EQ(h.estimates()[k].theta(), g.estimates()[k].theta()) << k;
+  }
+  EXPECT_EQ(h.odometry()[0].information, e.information);
+}
+
 TEST(G2o, WriteThenReadGivesTheSameGraph) {
   // Distinct values in every field, so that a swapped or dropped field shows.
   const auto g2 =

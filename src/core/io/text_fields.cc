@@ -1,9 +1,10 @@
 #include "rrr/io/text_fields.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <sstream>
 
 #include "rrr/io/input_error.h"
 
@@ -12,15 +13,15 @@ namespace rrr {
 TextFields::TextFields(const std::string& text, const std::string& source,
                        int line, bool commas_separate)
     : source_(source), line_(line) {
-  std::string copy = text;
-  if (commas_separate) {
-    for (char& c : copy) {
-      if (c == ',') c = ' ';
-    }
+  const auto separates = [&](char c) {
+    return std::isspace(static_cast<unsigned char>(c)) ||
+           (commas_separate && c == ',');
+  };
+  for (auto it = text.begin(); it != text.end();) {
+    const auto first = std::find_if_not(it, text.end(), separates);
+    it = std::find_if(first, text.end(), separates);
+    if (first != it) fields_.emplace_back(first, it);
   }
-  std::istringstream s(copy);
-  std::string f;
-  while (s >> f) fields_.push_back(f);
 }
 
 void TextFields::ExpectCount(size_t n, const std::string& what) const {
