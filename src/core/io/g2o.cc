@@ -28,14 +28,12 @@ struct PendingEdge {
   std::vector<double> values;
 };
 
-// Writes `values` separated by spaces, each in the shortest form that reads
+// Writes each of `values` after a space, in the shortest form that reads
 // back as the same double.
 void WriteNumbers(std::initializer_list<double> values, std::ostream& out) {
   char text[32];
-  bool first = true;
   for (const double v : values) {
-    if (!first) out.put(' ');
-    first = false;
+    out.put(' ');
     const std::to_chars_result end = std::to_chars(text, text + sizeof text, v);
     out.write(text, end.ptr - text);
   }
@@ -299,19 +297,17 @@ void WriteG2o(const PoseGraph<Pose>& graph, const std::vector<Pose>& estimates,
   using Traits = G2oTraits<Pose>;
   const auto& ids = graph.ids();
   for (int k = 0; k < graph.num_poses(); ++k) {
-    out << Traits::kVertexTag << ' ' << ids[k] << ' ';
+    out << Traits::kVertexTag << ' ' << ids[k];
     Traits::WritePose(estimates[k], out);
     out << '\n';
   }
   for (const int k : graph.fixed()) out << "FIX " << ids[k] << '\n';
   const auto write_edge = [&](const typename PoseGraph<Pose>::Edge& e) {
-    out << Traits::kEdgeTag << ' ' << ids[e.from] << ' ' << ids[e.to] << ' ';
+    out << Traits::kEdgeTag << ' ' << ids[e.from] << ' ' << ids[e.to];
     Traits::WritePose(e.measurement, out);
     for (int r = 0; r < Pose::kDof; ++r) {
-      for (int c = r; c < Pose::kDof; ++c) {
-        out.put(' ');
+      for (int c = r; c < Pose::kDof; ++c)
         WriteNumbers({e.information(r, c)}, out);
-      }
     }
     out << '\n';
   };
