@@ -28,6 +28,8 @@ class OdometryChain {
   // Appends the step from the last pose to a new one: measurement `z` with
   // information `information` (symmetric positive definite).
   void Append(const Pose& z, const Information& information);
+  // Makes room for `poses` poses in all, so that appending moves nothing.
+  void Reserve(int poses);
 
   int num_poses() const { return static_cast<int>(composed_.size()); }
   // The edge from pose `i` to pose `j` (0 <= i < j < num_poses()): the

@@ -4,28 +4,31 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rrr {
 
-// Splits `text` at whitespace (and commas, if `commas_separate`). Every
-// accessor that fails throws InputError naming `source` and `line`.
+// Splits `text` at whitespace (and commas, if `commas_separate`). The fields
+// are views into `text`, which must outlive this object, as must `source`.
+// Every accessor that fails throws InputError naming `source` and `line`.
 class TextFields {
  public:
-  TextFields(const std::string& text, const std::string& source, int line,
+  TextFields(std::string_view text, std::string_view source, int line,
              bool commas_separate = false);
 
   size_t size() const { return fields_.size(); }
   bool empty() const { return fields_.empty(); }
   // Blank lines and lines starting with '#' are comments.
   bool IsComment() const { return empty() || fields_[0][0] == '#'; }
-  const std::string& operator[](size_t k) const { return fields_.at(k); }
+  std::string_view operator[](size_t k) const { return fields_.at(k); }
 
   // Throws unless there are exactly `n` fields, naming `what` in the message.
   void ExpectCount(size_t n, const std::string& what) const;
   // Throws unless there are at least `n` fields.
   void ExpectAtLeast(size_t n, const std::string& what) const;
-  // Field k as a finite double; throws naming the field otherwise.
+  // Field k as a finite double, read as strtod reads a decimal number and
+  // rounded as it rounds; throws naming the field otherwise.
   double Number(size_t k) const;
   // Field k as an integer id.
   std::int64_t Integer(size_t k) const;
@@ -34,8 +37,8 @@ class TextFields {
   [[noreturn]] void Fail(const std::string& problem) const;
 
  private:
-  std::vector<std::string> fields_;
-  std::string source_;
+  std::vector<std::string_view> fields_;
+  std::string_view source_;
   int line_;
 };
 

@@ -34,6 +34,15 @@ void OdometryChain<Pose>::Append(const Pose& z,
 }
 
 template <class Pose>
+void OdometryChain<Pose>::Reserve(int poses) {
+  composed_.reserve(poses);
+  steps_.reserve(poses);
+  step_cov_.reserve(poses);
+  world_sum_.reserve(poses);
+  travelled_.reserve(poses);
+}
+
+template <class Pose>
 typename OdometryChain<Pose>::Covariance OdometryChain<Pose>::CovarianceBetween(
     int i, int j) const {
   if (j - i <= kDirectSteps) {
@@ -94,6 +103,7 @@ OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph) {
     info[k] = sum;
   }
   OdometryChain<Pose> chain;
+  chain.Reserve(n);
   for (int k = 1; k < n; ++k) {
     if (!linked[k]) {
       throw std::invalid_argument("pose " + std::to_string(graph.ids()[k]) +

@@ -1,5 +1,6 @@
 #include "rrr/graph/pose_graph.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "rrr/geometry/pose2.h"
@@ -20,6 +21,14 @@ int PoseGraph<Pose>::AddPose(PoseId id, const Pose& estimate) {
   index_of_.emplace(id, index);
   estimates_.push_back(estimate);
   return index;
+}
+
+template <class Pose>
+void PoseGraph<Pose>::Reserve(int poses) {
+  ids_.reserve(poses);
+  index_of_.reserve(poses);
+  estimates_.reserve(poses);
+  odometry_.reserve(std::max(poses - 1, 0));
 }
 
 template <class Pose>

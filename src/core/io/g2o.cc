@@ -124,6 +124,7 @@ PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
   const auto skip = [&](const PendingEdge& e, CandidateDefect defect) {
     skipped->push_back({e.line, e.from, e.to, defect});
   };
+  graph.Reserve(static_cast<int>(vertices.size()));
   for (const auto& [id, v] : vertices) {
     const std::optional<Pose> pose =
         Traits::MakePose(v.values.data(), &problem);
@@ -204,7 +205,7 @@ G2oFile ParseG2o(std::istream& in, const std::string& source, bool strict) {
 
   const auto set_dimension = [&dim](Dimension d, const TextFields& f) {
     if (dim != Dimension::kUnknown && dim != d) {
-      f.Fail("mixes 2D and 3D elements: " + f[0] + " in a " +
+      f.Fail("mixes 2D and 3D elements: " + std::string(f[0]) + " in a " +
              (dim == Dimension::k2D ? "2D" : "3D") + " file");
     }
     dim = d;
@@ -216,7 +217,7 @@ G2oFile ParseG2o(std::istream& in, const std::string& source, bool strict) {
     ++line;
     const TextFields f(text, source, line);
     if (f.IsComment()) continue;
-    const std::string& tag = f[0];
+    const std::string tag(f[0]);
     const bool is2d_vertex = tag == G2oTraits<Pose2>::kVertexTag;
     const bool is3d_vertex = tag == G2oTraits<Pose3>::kVertexTag;
     const bool is2d_edge = tag == G2oTraits<Pose2>::kEdgeTag;

@@ -1,26 +1,49 @@
 #include "rrr/io/text_fields.h"
 
 #include <algorithm>
-#include <cctype>
-#include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <cstdlib>
 
 #include "rrr/io/input_error.h"
 
 namespace rrr {
+namespace {
 
-TextFields::TextFields(const std::string& text, const std::string& source,
-                       int line, bool commas_separate)
+// Whether `c` is white space in the "C" locale.
+bool IsSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' ||
+         c == '\f';
+}
+
+// Reads all of `field` into `*value` by std::from_chars, which takes no
+// leading '+' where strtod and strtoll do: one is skipped before a digit or
+// a point. Returns false unless all of it is read and in range.
+template <class T>
+bool ReadAll(std::string_view field, T* value) {
+  const char* first = field.data();
+  const char* last = first + field.size();
+  if (field.size() > 1 && field[0] == '+' && field[1] != '-' &&
+      field[1] != '+') {
+    ++first;
+  }
+  const auto [end, error] = std::from_chars(first, last, *value);
+  return error == std::errc() && end == last;
+}
+
+}  // namespace
+
+TextFields::TextFields(std::string_view text, std::string_view source, int line,
+                       bool commas_separate)
     : source_(source), line_(line) {
   const auto separates = [&](char c) {
-    return std::isspace(static_cast<unsigned char>(c)) ||
-           (commas_separate && c == ',');
+    return IsSpace(c) || (commas_separate && c == ',');
   };
   for (auto it = text.begin(); it != text.end();) {
     const auto first = std::find_if_not(it, text.end(), separates);
     it = std::find_if(first, text.end(), separates);
-    if (first != it) fields_.emplace_back(first, it);
+    if (first != it) {
+      fields_.emplace_back(&*first, static_cast<size_t>(it - first));
+    }
   }
 }
 
@@ -39,38 +62,38 @@ void TextFields::ExpectAtLeast(size_t n, const std::string& what) const {
 }
 
 double TextFields::Number(size_t k) const {
-  const std::string& f = fields_.at(k);
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(f.c_str(), &end);
-  if (end == f.c_str() || *end != '\0' || errno == ERANGE) {
-    Fail("field " + std::to_string(k) + " '" + f + "' is not a number");
+  const std::string_view f = fields_.at(k);
+  double v = 0.0;
+  if (!ReadAll(f, &v)) {
+    Fail("field " + std::to_string(k) + " '" + std::string(f) +
+         "' is not a number");
   }
   if (!std::isfinite(v)) {
-    Fail("field " + std::to_string(k) + " '" + f + "' is not finite");
+    Fail("field " + std::to_string(k) + " '" + std::string(f) +
+         "' is not finite");
   }
   return v;
 }
 
 std::int64_t TextFields::Integer(size_t k) const {
-  const std::string& f = fields_.at(k);
-  errno = 0;
-  char* end = nullptr;
-  const long long v = std::strtoll(f.c_str(), &end, 10);
-  if (end == f.c_str() || *end != '\0' || errno == ERANGE) {
-    Fail("field " + std::to_string(k) + " '" + f + "' is not an integer id");
+  const std::string_view f = fields_.at(k);
+  std::int64_t v = 0;
+  if (!ReadAll(f, &v)) {
+    Fail("field " + std::to_string(k) + " '" + std::string(f) +
+         "' is not an integer id");
   }
   return v;
 }
 
 std::vector<double> TextFields::Numbers(size_t first) const {
   std::vector<double> v;
+  v.reserve(fields_.size() - std::min(first, fields_.size()));
   for (size_t k = first; k < fields_.size(); ++k) v.push_back(Number(k));
   return v;
 }
 
 void TextFields::Fail(const std::string& problem) const {
-  throw InputError(source_, line_, problem);
+  throw InputError(std::string(source_), line_, problem);
 }
 
 }  // namespace rrr

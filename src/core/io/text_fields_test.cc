@@ -29,6 +29,21 @@ TEST(TextFields, CommasSeparateOnlyWhenAsked) {
   EXPECT_THROW(text.Number(0), InputError);
 }
 
+TEST(TextFields, ReadsNumbersAsStrtodReadsDecimalOnes) {
+  const TextFields f("+1.5 +7 -2.5e-3 .25 +-1 1.5x 0x10 + 1e400", "g", 1);
+  EXPECT_EQ(f.Number(0), 1.5);
+  EXPECT_EQ(f.Integer(1), 7);
+  EXPECT_EQ(f.Number(2), -2.5e-3);
+  EXPECT_EQ(f.Number(3), 0.25);
+  for (size_t k = 4; k < f.size(); ++k) {
+    EXPECT_THROW(f.Number(k), InputError) << f[k];
+  }
+  EXPECT_THROW(f.Integer(0), InputError);
+  // The nearest double, as strtod rounds.
+  EXPECT_EQ(TextFields("0.1 2.2250738585072014e-308", "g", 1).Numbers(0),
+            (std::vector<double>{0.1, 2.2250738585072014e-308}));
+}
+
 TEST(TextFields, ABadNumberNamesTheFileLineAndField) {
   const TextFields f("VERTEX_SE2 0 1.0 x 3", "graph.g2o", 12);
   try {
