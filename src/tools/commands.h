@@ -6,12 +6,18 @@
 
 namespace rrr {
 
+inline constexpr char kToBagDescription[] =
+    "Write a g2o file as a bag of rrr_node's inputs: odometry at the poses' "
+    "times, each loop candidate just after its later pose.";
+
 void AddVerifyCommand(CLI::App& app);
 void AddOptimizeCommand(CLI::App& app);
 void AddSpoilCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
 void AddEvaluateCommand(CLI::App& app);
 void AddToBagCommand(CLI::App& app);
+// `rrr to-bag`: runs rrr_to_bag (AddToBagCommand) with the same arguments.
+void AddToBagForwarding(CLI::App& app);
 void AddExportCommand(CLI::App& app);
 
 }  // namespace rrr

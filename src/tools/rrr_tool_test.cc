@@ -463,6 +463,26 @@ TEST(RrrTool, DegenerateCandidatesAreSkippedCountedAndReported) {
   EXPECT_THAT(strict.output, HasSubstr("to itself"));
 }
 
+TEST(RrrTool, ToBagRunsItsOwnProgramWithEveryArgument) {
+  const std::string world = Tmp("bag_world.g2o"), bag = Tmp("world.bag");
+  ASSERT_EQ(Rrr("simulate --poses 200 --false-loops 5 -o " + world + " -t " +
+                Tmp("bag_false.txt") + " --ground-truth " + Tmp("bag_gt.g2o"))
+                .status,
+            0);
+  std::remove(bag.c_str());
+  // Options before and after the input reach rrr_to_bag.
+  const Result r = Rrr("to-bag --rate 20 " + world + " -o " + bag);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("wrote 200 odometry messages"));
+  EXPECT_THAT(r.output, HasSubstr("(9.95 s)"));  // 199 steps at 20 Hz
+  EXPECT_TRUE(std::ifstream(bag).good());
+  EXPECT_THAT(Rrr("to-bag --help").output,
+              HasSubstr("rrr_to_bag to-bag [OPTIONS] input"));
+  const Result missing = Rrr("to-bag " + world);
+  EXPECT_NE(missing.status, 0);
+  EXPECT_THAT(missing.output, HasSubstr("--output is required"));
+}
+
 TEST(RrrTool, NeverWritesOverItsInputOrOneOutputWithAnother) {
   const std::string input = Tmp("precious.g2o");
   Rrr("simulate --poses 200 --false-loops 5 -o " + input + " -t " +

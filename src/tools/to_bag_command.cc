@@ -126,10 +126,7 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
 
 void AddToBagCommand(CLI::App& app) {
   auto args = std::make_shared<ToBagArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "to-bag",
-      "Write a g2o file as a bag of rrr_node's inputs: odometry at the poses' "
-      "times, each loop candidate just after its later pose.");
+  CLI::App* cmd = app.add_subcommand("to-bag", kToBagDescription);
   cmd->add_option("input", args->input, "g2o file with pose ids 0, 1, 2, ...")
       ->required()
       ->check(CLI::ExistingFile);
