@@ -1,6 +1,5 @@
 #include "fleet_node.h"
 
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Path.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -9,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <numeric>
 
 #include "graph_messages.h"
@@ -63,7 +63,7 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
       private_nh_(private_nh),
       worker_(options.max_queue_length),
       fleet_(options.robots, FleetOptionsOf(options)) {
-  status_.procedure = rrr::ToString(options_.rrr.procedure);
+  status_.counts.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
   const int robots = static_cast<int>(options_.robots.size());
   map_to_odom_.resize(robots);
@@ -88,19 +88,13 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
       private_nh_.advertiseService("finish", &FleetNode::OnFinish, this);
   save_srv_ =
       private_nh_.advertiseService("save_graph", &FleetNode::OnSaveGraph, this);
-  status_srv_ =
-      private_nh_.advertiseService("get_status", &FleetNode::OnGetStatus, this);
   tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period),
                               &FleetNode::OnTfTimer, this);
-  diagnostics_pub_ =
-      nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
-  diagnostics_timer_ =
-      nh_.createTimer(ros::Duration(1.0), &FleetNode::OnDiagnosticsTimer, this);
   for (int r = 0; r < robots; ++r) {
     odom_subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(
         options_.robots[r] + "/odom", kQueueSize,
         [this, r](const nav_msgs::Odometry::ConstPtr& msg) {
-          ++odometry_received_;
+          ++status_.odometry_received;
           worker_.Enqueue(RobotOdometry{r, msg}, "odometry", msg->header.seq);
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
@@ -108,17 +102,20 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
   fleet_loop_sub_ = nh_.subscribe<rrr_slam::FleetLoopClosure>(
       "fleet_loop_closures", kQueueSize,
       [this](const rrr_slam::FleetLoopClosure::ConstPtr& msg) {
-        ++loops_received_;
+        ++status_.loops_received;
         worker_.Enqueue(msg, "fleet loop closure", msg->loop.header.seq);
       },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   loop_sub_ = nh_.subscribe<rrr_slam::LoopClosure>(
       "loop_closures", kQueueSize,
       [this](const rrr_slam::LoopClosure::ConstPtr& msg) {
-        ++loops_received_;
+        ++status_.loops_received;
         worker_.Enqueue(msg, "loop closure", msg->header.seq);
       },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  status_.Serve(nh_, private_nh_, [this](rrr_slam::GetStatus::Response* s) {
+    worker_.SetQueueStatus(s);
+  });
 }
 
 template <class Pose>
@@ -148,10 +145,10 @@ void FleetNode<Pose>::Resume() {
           "update?)",
           summary.differing_decisions, options_.database.c_str());
     }
-    status_.database = options_.database;
-    status_.resumed_keyframes = summary.keyframes;
-    status_.resumed_candidates = summary.candidates;
-    status_.updates = summary.updates;
+    status_.counts.database = options_.database;
+    status_.counts.resumed_keyframes = summary.keyframes;
+    status_.counts.resumed_candidates = summary.candidates;
+    status_.counts.updates = summary.updates;
     CountState();
     changed_ = summary.keyframes > 0;
     ROS_INFO(
@@ -244,24 +241,6 @@ bool FleetNode<Pose>::OnGetAcceptedGraph(
 }
 
 template <class Pose>
-void FleetNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
-  rrr_slam::GetStatus::Request req;
-  rrr_slam::GetStatus::Response status;
-  OnGetStatus(req, status);
-  diagnostics_pub_.publish(DiagnosticsOf(status, ros::this_node::getName()));
-}
-
-template <class Pose>
-bool FleetNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
-                                  rrr_slam::GetStatus::Response& res) {
-  res = StatusSnapshot(state_mutex_, status_, timings_);
-  worker_.SetQueueStatus(&res);
-  res.odometry_received = odometry_received_;
-  res.loop_closures_received = loops_received_;
-  return true;
-}
-
-template <class Pose>
 bool FleetNode<Pose>::OnGetDecisions(rrr_slam::GetDecisions::Request&,
                                      rrr_slam::GetDecisions::Response& res) {
   worker_.RunOnWorker([&] {
@@ -308,7 +287,7 @@ rrr_slam::Decisions FleetNode<Pose>::DecisionsMsg(
 
 template <class Pose>
 void FleetNode<Pose>::OnTfTimer(const ros::TimerEvent&) {
-  std::lock_guard<std::mutex> lock(state_mutex_);
+  std::lock_guard<std::mutex> lock(status_.mutex);
   const ros::Time stamp = ros::Time::now() + ros::Duration(options_.tf_period);
   for (geometry_msgs::TransformStamped t : map_to_odom_) {
     if (t.child_frame_id.empty()) continue;  // no keyframe yet
@@ -339,8 +318,8 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
       store_->CommitUpdate(finish, changes);
     } catch (const rrr::SessionError& e) {
       {
-        std::lock_guard<std::mutex> lock(state_mutex_);
-        ++status_.database_errors;
+        std::lock_guard<std::mutex> lock(status_.mutex);
+        ++status_.counts.database_errors;
       }
       ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
                          e.what());
@@ -410,7 +389,7 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
 
-  std::lock_guard<std::mutex> lock(state_mutex_);
+  std::lock_guard<std::mutex> lock(status_.mutex);
   for (int r = 0; r < static_cast<int>(options_.robots.size()); ++r) {
     const std::optional<Pose> correction = fleet_.MapToOdom(r);
     if (!correction) continue;
@@ -422,10 +401,10 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
     tf_broadcaster_.sendTransform(t);
   }
   CountState();
-  ++status_.updates;
-  status_.inputs_processed += taken_since_update_;
+  ++status_.counts.updates;
+  status_.counts.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
-  timings_.AddUpdate(seconds);
+  status_.timings.AddUpdate(seconds);
 }
 
 template <class Pose>
@@ -447,23 +426,25 @@ rrr_slam::AcceptedGraph FleetNode<Pose>::AcceptedGraph() const {
 template <class Pose>
 void FleetNode<Pose>::CountState() {
   const auto& v = fleet_.verifier();
-  status_.candidates = static_cast<uint32_t>(v.num_candidates());
-  status_.accepted =
+  status_.counts.candidates = static_cast<uint32_t>(v.num_candidates());
+  status_.counts.accepted =
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kAccepted));
-  status_.rejected =
+  status_.counts.rejected =
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kRejected));
-  status_.pending =
+  status_.counts.pending =
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kPending));
-  status_.waiting = static_cast<uint32_t>(fleet_.num_waiting_for_robots());
-  status_.waiting_by_stamp =
+  status_.counts.waiting =
+      static_cast<uint32_t>(fleet_.num_waiting_for_robots());
+  status_.counts.waiting_by_stamp =
       static_cast<uint32_t>(fleet_.num_waiting_by_stamp());
   // Candidates by stamp refused once their keyframes came: none near.
-  status_.skipped_unknown_poses += static_cast<uint64_t>(
+  status_.counts.skipped_unknown_poses += static_cast<uint64_t>(
       fleet_.refused_by_stamp() - refused_by_stamp_counted_);
   refused_by_stamp_counted_ = fleet_.refused_by_stamp();
-  status_.keyframes = 0;
+  status_.counts.keyframes = 0;
   for (int c = 0; c < v.num_chains(); ++c) {
-    status_.keyframes += static_cast<uint32_t>(v.chain(c).graph().num_poses());
+    status_.counts.keyframes +=
+        static_cast<uint32_t>(v.chain(c).graph().num_poses());
   }
 }
 

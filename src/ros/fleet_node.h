@@ -7,15 +7,14 @@
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include <atomic>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "node_options.h"
+#include "node_status.h"
 #include "node_worker.h"
 #include "rrr/fleet/fleet.h"
 #include "rrr/session/fleet_store.h"
@@ -25,10 +24,8 @@
 #include "rrr_slam/FleetLoopClosure.h"
 #include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/GetDecisions.h"
-#include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
 #include "rrr_slam/SaveGraph.h"
-#include "update_timings.h"
 
 namespace rrr_ros {
 
@@ -76,14 +73,11 @@ class FleetNode {
                 rrr_slam::Finish::Response& res);
   bool OnSaveGraph(rrr_slam::SaveGraph::Request& req,
                    rrr_slam::SaveGraph::Response& res);
-  bool OnGetStatus(rrr_slam::GetStatus::Request& req,
-                   rrr_slam::GetStatus::Response& res);
   bool OnGetDecisions(rrr_slam::GetDecisions::Request& req,
                       rrr_slam::GetDecisions::Response& res);
   bool OnGetAcceptedGraph(rrr_slam::GetAcceptedGraph::Request& req,
                           rrr_slam::GetAcceptedGraph::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
-  void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
   // Opens the session database and replays it into the fleet; throws
   // std::invalid_argument naming the database if it cannot.
@@ -95,13 +89,11 @@ class FleetNode {
   // Adds `loop` (message `seq`) between robots `from` and `to`.
   void AddCandidate(uint32_t seq, int from, int to,
                     const rrr_slam::LoopClosure& loop);
-  // Counts an invalid message and warns (throttled), naming it.
-  void Invalid(const std::string& what, uint32_t seq, const std::string& why);
   // The accepted graph of the map in `map_frame`: every robot's sessions in
   // it, each pose named by robot and keyframe id.
   rrr_slam::AcceptedGraph AcceptedGraph() const;
-  // Sets status_'s counts of keyframes, candidates and their states from the
-  // fleet; under state_mutex_ once the worker runs.
+  // Sets status_.counts's counts of keyframes, candidates and their states from
+  // the fleet; under status_.mutex once the worker runs.
   void CountState();
   // Runs the fleet's update (or Finish) and publishes.
   void UpdateAndPublish(bool finish);
@@ -120,13 +112,11 @@ class FleetNode {
   ros::Subscriber fleet_loop_sub_, loop_sub_;
   std::vector<ros::Publisher> keyframe_pubs_, path_pubs_;
   ros::Publisher marker_pub_, decision_pub_, graph_pub_;
-  ros::ServiceServer finish_srv_, save_srv_, status_srv_, decisions_srv_,
-      graph_srv_;
-  ros::Publisher diagnostics_pub_;
-  ros::Timer tf_timer_, diagnostics_timer_;
+  ros::ServiceServer finish_srv_, save_srv_, decisions_srv_, graph_srv_;
+  ros::Timer tf_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   Worker worker_;
-  std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
+  NodeStatus status_;  // ~get_status and /diagnostics
 
   // Worker state.
   rrr::Fleet<Pose> fleet_;
@@ -135,13 +125,10 @@ class FleetNode {
   ros::WallTime last_published_, last_graph_published_;
   uint64_t taken_since_update_ = 0;
   int candidates_published_ = 0;      // on ~decisions, as new
-  int refused_by_stamp_counted_ = 0;  // in status_.skipped_unknown_poses
+  int refused_by_stamp_counted_ = 0;  // in status_.counts.skipped_unknown_poses
 
-  // Shared with the ROS threads under `state_mutex_`.
-  std::mutex state_mutex_;
-  UpdateTimings timings_;
+  // Shared with the ROS threads under `status_.mutex`.
   std::vector<geometry_msgs::TransformStamped> map_to_odom_;
-  rrr_slam::GetStatus::Response status_;
 };
 
 }  // namespace rrr_ros

@@ -1,5 +1,6 @@
 // FleetNode: its inputs, taken on the worker (the class is in
 // fleet_node.cc, instantiated there; these members here).
+#include <mutex>
 #include <string>
 #include <utility>
 
@@ -11,12 +12,6 @@
 namespace rrr_ros {
 
 template <class Pose>
-void FleetNode<Pose>::Invalid(const std::string& what, uint32_t seq,
-                              const std::string& why) {
-  CountInvalid(state_mutex_, &status_, what, seq, why);
-}
-
-template <class Pose>
 void FleetNode<Pose>::Process(const RobotOdometry& odometry) {
   const nav_msgs::Odometry& msg = *odometry.msg;
   const int r = odometry.robot;
@@ -24,21 +19,22 @@ void FleetNode<Pose>::Process(const RobotOdometry& odometry) {
   const std::string& frame = msg.header.frame_id;
   if (!frame.empty() && frame != RobotFrame(r, options_.odom_frame) &&
       frame != options_.odom_frame) {
-    return Invalid(what, msg.header.seq,
-                   "frame '" + frame + "' is not the robot's odometry frame '" +
-                       RobotFrame(r, options_.odom_frame) + "'");
+    return status_.CountInvalid(what, msg.header.seq,
+                                "frame '" + frame +
+                                    "' is not the robot's odometry frame '" +
+                                    RobotFrame(r, options_.odom_frame) + "'");
   }
   Pose pose;
   std::string why;
   if (!FromRos(msg.pose.pose, &pose, &why)) {
-    return Invalid(what, msg.header.seq, why);
+    return status_.CountInvalid(what, msg.header.seq, why);
   }
   const rrr::KeyframeRecord<Pose> reading{
       static_cast<std::int64_t>(msg.header.stamp.toNSec()), pose,
       FromRos(msg.pose.covariance)};
   const auto taken = fleet_.AddReading(r, reading);
   if (!taken.problem.empty()) {
-    return Invalid(what, msg.header.seq, taken.problem);
+    return status_.CountInvalid(what, msg.header.seq, taken.problem);
   }
   if (taken.new_session && fleet_.sessions(r).size() > 1) {
     ROS_INFO("rrr_node: robot %s restarted: session %zu from keyframe %lld",
@@ -64,8 +60,9 @@ void FleetNode<Pose>::Process(const rrr_slam::FleetLoopClosure::ConstPtr& msg) {
   for (const auto& [index, name] :
        {std::pair(from, &msg->from_robot), {to, &msg->to_robot}}) {
     if (index < 0) {
-      return Invalid("fleet loop closure", seq,
-                     "robot '" + *name + "' is not among the robots");
+      return status_.CountInvalid(
+          "fleet loop closure", seq,
+          "robot '" + *name + "' is not among the robots");
     }
   }
   AddCandidate(seq, from, to, msg->loop);
@@ -86,7 +83,7 @@ void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
   if (!FromRos(loop.relative_pose.pose, &z, &why) ||
       !InformationFromCovariance<Pose>(loop.relative_pose.covariance,
                                        &information, &why)) {
-    return Invalid(what, seq, why);
+    return status_.CountInvalid(what, seq, why);
   }
   try {
     if (loop.reference == rrr_slam::LoopClosure::BY_ID) {
@@ -108,22 +105,20 @@ void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
     }
     changed_ = true;
   } catch (const rrr::DegenerateCandidate& e) {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    CountCandidateDefect(e.defect(), &status_);
+    std::lock_guard<std::mutex> lock(status_.mutex);
+    CountCandidateDefect(e.defect(), &status_.counts);
     ROS_WARN_THROTTLE(5.0, "rrr_node: skipped loop closure message %u: %s", seq,
                       e.what());
   }
 }
 
-#define RRR_INSTANTIATE_FLEET_NODE_INPUTS(Pose)                        \
-  template void FleetNode<Pose>::Invalid(const std::string&, uint32_t, \
-                                         const std::string&);          \
-  template void FleetNode<Pose>::Process(const RobotOdometry&);        \
-  template void FleetNode<Pose>::Process(                              \
-      const rrr_slam::FleetLoopClosure::ConstPtr&);                    \
-  template void FleetNode<Pose>::Process(                              \
-      const rrr_slam::LoopClosure::ConstPtr&);                         \
-  template void FleetNode<Pose>::AddCandidate(uint32_t, int, int,      \
+#define RRR_INSTANTIATE_FLEET_NODE_INPUTS(Pose)                   \
+  template void FleetNode<Pose>::Process(const RobotOdometry&);   \
+  template void FleetNode<Pose>::Process(                         \
+      const rrr_slam::FleetLoopClosure::ConstPtr&);               \
+  template void FleetNode<Pose>::Process(                         \
+      const rrr_slam::LoopClosure::ConstPtr&);                    \
+  template void FleetNode<Pose>::AddCandidate(uint32_t, int, int, \
                                               const rrr_slam::LoopClosure&);
 RRR_INSTANTIATE_FLEET_NODE_INPUTS(rrr::Pose2)
 RRR_INSTANTIATE_FLEET_NODE_INPUTS(rrr::Pose3)

@@ -1,7 +1,5 @@
 #include "status_messages.h"
 
-#include <ros/console.h>
-
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 
@@ -20,42 +18,6 @@ void SetVerifierState(const rrr::OnlineVerifier<Pose>& verifier,
   status->noise_scale = verifier.noise_scale();
   status->noise_scale_source = verifier.noise_scale_source();
   status->group_noise_scale = verifier.group_noise_scale();
-}
-
-rrr_slam::GetStatus::Response StatusSnapshot(
-    std::mutex& mutex, const rrr_slam::GetStatus::Response& now,
-    const UpdateTimings& now_timings) {
-  rrr_slam::GetStatus::Response out;
-  UpdateTimings timings;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    out = now;
-    timings = now_timings;
-  }
-  rrr_slam::GetStatus::Response* status = &out;
-  const UpdateTimings::Summary t = timings.Summarize();
-  status->candidate_latency_p50 = t.latency_p50;
-  status->candidate_latency_p99 = t.latency_p99;
-  status->candidate_latency_max = t.latency_max;
-  status->update_seconds_p50 = t.update_p50;
-  status->update_seconds_p99 = t.update_p99;
-  status->max_update_seconds = t.update_max;
-  status->recent_max_update_seconds = t.recent_update_max;
-  status->last_update_seconds = t.last_update;
-  return out;
-}
-
-void CountInvalid(std::mutex& mutex, rrr_slam::GetStatus::Response* status,
-                  const std::string& kind, uint32_t seq,
-                  const std::string& why) {
-  uint64_t count;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    count = ++status->invalid_messages;
-  }
-  ROS_WARN_THROTTLE(
-      5.0, "rrr_node: ignored %s message %u: %s (%lu invalid messages so far)",
-      kind.c_str(), seq, why.c_str(), static_cast<unsigned long>(count));
 }
 
 template void SetVerifierState(const rrr::OnlineVerifier<rrr::Pose2>&,

@@ -6,13 +6,11 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 
 #include <cstdint>
-#include <mutex>
 #include <string>
 
 #include "rrr/graph/candidate_defect.h"
 #include "rrr/rrr/online_verifier.h"
 #include "rrr_slam/GetStatus.h"
-#include "update_timings.h"
 
 namespace rrr_ros {
 
@@ -22,18 +20,6 @@ namespace rrr_ros {
 template <class Pose>
 void SetVerifierState(const rrr::OnlineVerifier<Pose>& verifier,
                       rrr_slam::GetStatus::Response* status);
-
-// `status` and `timings` as ~get_status answers them: copied under `mutex`
-// (the worker updates them), the timings summarized outside it.
-rrr_slam::GetStatus::Response StatusSnapshot(
-    std::mutex& mutex, const rrr_slam::GetStatus::Response& status,
-    const UpdateTimings& timings);
-
-// Counts an invalid message in `*status` (under `mutex`) and warns
-// (throttled), naming it as `kind` message `seq`, with `why`.
-void CountInvalid(std::mutex& mutex, rrr_slam::GetStatus::Response* status,
-                  const std::string& kind, uint32_t seq,
-                  const std::string& why);
 
 // Counts one skipped or refused candidate under its reason in `status`.
 void CountCandidateDefect(rrr::CandidateDefect defect,

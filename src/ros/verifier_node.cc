@@ -1,6 +1,5 @@
 #include "verifier_node.h"
 
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Path.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -9,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <mutex>
 
 #include "graph_messages.h"
 #include "msg_conversion.h"
@@ -64,9 +64,9 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
       keyframes_(options.keyframe_translation, options.keyframe_rotation,
                  std::llround(options.stamp_tolerance * 1e9)),
       stamped_waiting_(options.rrr.max_waiting) {
-  status_.procedure = rrr::ToString(options_.rrr.procedure);
+  status_.counts.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
-  SetVerifierState(*verifier_, &status_);
+  SetVerifierState(*verifier_, &status_.counts);
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
   // A subscriber that joins gets the state at once if the latched message of
   // its topic is out of date (after ~finish no update would send it).
@@ -83,12 +83,8 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
       private_nh_.advertise<rrr_slam::Decisions>("decisions", 100, true);
   graph_pub_ = private_nh_.advertise<rrr_slam::AcceptedGraph>(
       "accepted_graph", 1, joined(kGraph), {}, {}, true);
-  diagnostics_pub_ =
-      nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   save_srv_ = private_nh_.advertiseService("save_graph",
                                            &VerifierNode::OnSaveGraph, this);
-  status_srv_ = private_nh_.advertiseService("get_status",
-                                             &VerifierNode::OnGetStatus, this);
   finish_srv_ =
       private_nh_.advertiseService("finish", &VerifierNode::OnFinish, this);
   decisions_srv_ = private_nh_.advertiseService(
@@ -97,13 +93,14 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
       "get_accepted_graph", &VerifierNode::OnGetAcceptedGraph, this);
   tf_timer_ = nh_.createTimer(ros::Duration(options_.tf_period),
                               &VerifierNode::OnTfTimer, this);
-  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0),
-                                       &VerifierNode::OnDiagnosticsTimer, this);
   odom_sub_ = nh_.subscribe("odom", kQueueSize, &VerifierNode::OnOdometry, this,
                             ros::TransportHints().tcpNoDelay());
   loop_sub_ =
       nh_.subscribe("loop_closures", kQueueSize, &VerifierNode::OnLoopClosure,
                     this, ros::TransportHints().tcpNoDelay());
+  status_.Serve(nh_, private_nh_, [this](rrr_slam::GetStatus::Response* s) {
+    worker_.SetQueueStatus(s);
+  });
 }
 
 template <class Pose>
@@ -152,14 +149,15 @@ void VerifierNode<Pose>::Resume() {
           "(were the options changed?)",
           summary.differing_decisions, options_.database.c_str());
     }
-    status_.database = options_.database;
-    status_.resumed_keyframes = summary.keyframes;
-    status_.resumed_candidates = summary.candidates;
-    status_.resumed_waiting_by_stamp = summary.waiting_by_stamp;
-    status_.resumed_from_update =
+    status_.counts.database = options_.database;
+    status_.counts.resumed_keyframes = summary.keyframes;
+    status_.counts.resumed_candidates = summary.candidates;
+    status_.counts.resumed_waiting_by_stamp = summary.waiting_by_stamp;
+    status_.counts.resumed_from_update =
         static_cast<uint64_t>(summary.checkpoint_update);
-    status_.waiting_by_stamp = static_cast<uint32_t>(stamped_waiting_.size());
-    status_.updates = summary.updates;
+    status_.counts.waiting_by_stamp =
+        static_cast<uint32_t>(stamped_waiting_.size());
+    status_.counts.updates = summary.updates;
     if (summary.keyframes > 0) {
       resumed_ = true;
       resumed_until_.fromNSec(keyframes_.stamps().newest());
@@ -181,14 +179,14 @@ void VerifierNode<Pose>::Resume() {
 
 template <class Pose>
 void VerifierNode<Pose>::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
-  ++odometry_received_;
+  ++status_.odometry_received;
   worker_.Enqueue(msg, kOdometry, msg->header.seq);
 }
 
 template <class Pose>
 void VerifierNode<Pose>::OnLoopClosure(
     const rrr_slam::LoopClosure::ConstPtr& msg) {
-  ++loops_received_;
+  ++status_.loops_received;
   worker_.Enqueue(msg, kLoopClosure, msg->header.seq);
 }
 
@@ -223,25 +221,15 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
 }
 
 template <class Pose>
-bool VerifierNode<Pose>::OnGetStatus(rrr_slam::GetStatus::Request&,
-                                     rrr_slam::GetStatus::Response& res) {
-  res = StatusSnapshot(state_mutex_, status_, timings_);
-  worker_.SetQueueStatus(&res);
-  res.odometry_received = odometry_received_;
-  res.loop_closures_received = loops_received_;
-  return true;
-}
-
-template <class Pose>
 bool VerifierNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
                                   rrr_slam::Finish::Response& res) {
   worker_.RunOnWorker([&] {
     UpdateAndPublish(true);
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    res.accepted = status_.accepted;
-    res.rejected = status_.rejected;
-    res.pending = status_.pending;
-    res.waiting = status_.waiting;
+    std::lock_guard<std::mutex> lock(status_.mutex);
+    res.accepted = status_.counts.accepted;
+    res.rejected = status_.counts.rejected;
+    res.pending = status_.counts.pending;
+    res.waiting = status_.counts.waiting;
   });
   return true;
 }
@@ -272,20 +260,12 @@ bool VerifierNode<Pose>::OnGetAcceptedGraph(
 
 template <class Pose>
 void VerifierNode<Pose>::OnTfTimer(const ros::TimerEvent&) {
-  std::lock_guard<std::mutex> lock(state_mutex_);
+  std::lock_guard<std::mutex> lock(status_.mutex);
   if (!have_map_to_odom_) return;
   // Stamped ahead so that lookups at the latest odometry time succeed.
   geometry_msgs::TransformStamped t = map_to_odom_;
   t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
   tf_broadcaster_.sendTransform(t);
-}
-
-template <class Pose>
-void VerifierNode<Pose>::OnDiagnosticsTimer(const ros::TimerEvent&) {
-  rrr_slam::GetStatus::Request req;
-  rrr_slam::GetStatus::Response status;
-  OnGetStatus(req, status);
-  diagnostics_pub_.publish(DiagnosticsOf(status, ros::this_node::getName()));
 }
 
 // ---- Worker thread ---------------------------------------------------------
@@ -314,8 +294,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
       store_->CommitUpdate(finish, changes, verifier_.get());
     } catch (const rrr::SessionError& e) {
       {
-        std::lock_guard<std::mutex> lock(state_mutex_);
-        ++status_.database_errors;
+        std::lock_guard<std::mutex> lock(status_.mutex);
+        ++status_.counts.database_errors;
       }
       ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
                          e.what());
@@ -344,7 +324,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
 
-  std::lock_guard<std::mutex> lock(state_mutex_);
+  std::lock_guard<std::mutex> lock(status_.mutex);
   if (!keyframes_.empty()) {
     const Pose correction = keyframes_.MapToOdom();
     map_to_odom_.header.frame_id = options_.map_frame;
@@ -355,16 +335,17 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
     tf_broadcaster_.sendTransform(t);
   }
-  SetVerifierState(*verifier_, &status_);
-  status_.waiting_by_stamp = static_cast<uint32_t>(stamped_waiting_.size());
-  status_.waiting += status_.waiting_by_stamp;
-  ++status_.updates;
-  status_.inputs_processed += taken_since_update_;
+  SetVerifierState(*verifier_, &status_.counts);
+  status_.counts.waiting_by_stamp =
+      static_cast<uint32_t>(stamped_waiting_.size());
+  status_.counts.waiting += status_.counts.waiting_by_stamp;
+  ++status_.counts.updates;
+  status_.counts.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
-  timings_.AddUpdate(seconds);
+  status_.timings.AddUpdate(seconds);
   const auto published = Worker::Clock::now();
   for (const auto& arrival : unpublished_arrivals_) {
-    timings_.AddLatency(
+    status_.timings.AddLatency(
         std::chrono::duration<double>(published - arrival).count());
   }
   unpublished_arrivals_.clear();

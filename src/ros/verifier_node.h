@@ -6,14 +6,13 @@
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include <atomic>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <variant>
 #include <vector>
 
 #include "node_options.h"
+#include "node_status.h"
 #include "node_worker.h"
 #include "rrr/graph/keyframe_track.h"
 #include "rrr/graph/odometry_noise.h"
@@ -24,10 +23,8 @@
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/GetDecisions.h"
-#include "rrr_slam/GetStatus.h"
 #include "rrr_slam/LoopClosure.h"
 #include "rrr_slam/SaveGraph.h"
-#include "update_timings.h"
 
 namespace rrr_ros {
 
@@ -63,8 +60,6 @@ class VerifierNode {
   void OnLoopClosure(const rrr_slam::LoopClosure::ConstPtr& msg);
   bool OnSaveGraph(rrr_slam::SaveGraph::Request& req,
                    rrr_slam::SaveGraph::Response& res);
-  bool OnGetStatus(rrr_slam::GetStatus::Request& req,
-                   rrr_slam::GetStatus::Response& res);
   bool OnFinish(rrr_slam::Finish::Request& req,
                 rrr_slam::Finish::Response& res);
   bool OnGetDecisions(rrr_slam::GetDecisions::Request& req,
@@ -72,7 +67,6 @@ class VerifierNode {
   bool OnGetAcceptedGraph(rrr_slam::GetAcceptedGraph::Request& req,
                           rrr_slam::GetAcceptedGraph::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
-  void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
   // Worker (taking in the inputs: verifier_node_inputs.cc).
   void Process(const nav_msgs::Odometry::ConstPtr& msg);
@@ -106,9 +100,6 @@ class VerifierNode {
   // How warnings name the inputs: "<kind> message <seq>".
   static constexpr const char* kOdometry = "odometry";
   static constexpr const char* kLoopClosure = "loop closure";
-  // Counts an invalid message and warns (throttled), naming it by `kind`
-  // and sequence number; the name is formatted only when the warning is.
-  void Invalid(const char* kind, uint32_t seq, const std::string& why);
   // Counts a degenerate loop candidate under its reason and warns (throttled).
   void Skip(uint32_t seq, rrr::CandidateDefect defect, const std::string& why);
 
@@ -116,14 +107,13 @@ class VerifierNode {
   ros::NodeHandle nh_, private_nh_;
   ros::Subscriber odom_sub_, loop_sub_;
   ros::Publisher keyframe_pub_, path_pub_, marker_pub_, decision_pub_,
-      graph_pub_, diagnostics_pub_;
-  ros::ServiceServer save_srv_, status_srv_, finish_srv_, decisions_srv_,
-      graph_srv_;
-  ros::Timer tf_timer_, diagnostics_timer_;
+      graph_pub_;
+  ros::ServiceServer save_srv_, finish_srv_, decisions_srv_, graph_srv_;
+  ros::Timer tf_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
-  Worker worker_;  // between the callbacks and the worker
-  std::atomic<uint64_t> odometry_received_{0}, loops_received_{0};
+  Worker worker_;      // between the callbacks and the worker
+  NodeStatus status_;  // ~get_status and /diagnostics
 
   // Worker state (touched only by the worker).
   std::unique_ptr<rrr::OnlineVerifier<Pose>> verifier_;  // of the procedure
@@ -151,12 +141,9 @@ class VerifierNode {
   std::vector<typename Worker::Clock::time_point> unpublished_arrivals_;
   ros::WallTime last_path_, last_markers_, last_graph_;  // last published
 
-  // Shared with the ROS threads under `state_mutex_`.
-  std::mutex state_mutex_;
-  UpdateTimings timings_;
+  // Shared with the ROS threads under `status_.mutex`.
   geometry_msgs::TransformStamped map_to_odom_;
   bool have_map_to_odom_ = false;
-  rrr_slam::GetStatus::Response status_;
 };
 
 }  // namespace rrr_ros

@@ -2,6 +2,7 @@
 // keyframes, loop-closure messages candidates (by keyframe id, or held until
 // keyframes near their stamps exist); what cannot be used is counted and
 // warned about.
+#include <mutex>
 #include <string>
 
 #include "msg_conversion.h"
@@ -23,30 +24,25 @@ std::string WrongFrame(const std::string& frame, const std::string& name,
 }  // namespace
 
 template <class Pose>
-void VerifierNode<Pose>::Invalid(const char* kind, uint32_t seq,
-                                 const std::string& why) {
-  CountInvalid(state_mutex_, &status_, kind, seq, why);
-}
-
-template <class Pose>
 void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   std::string why =
       WrongFrame(msg->header.frame_id, options_.odom_frame, "odometry");
-  if (!why.empty()) return Invalid(kOdometry, msg->header.seq, why);
+  if (!why.empty())
+    return status_.CountInvalid(kOdometry, msg->header.seq, why);
   Pose pose;
   if (!FromRos(msg->pose.pose, &pose, &why))
-    return Invalid(kOdometry, msg->header.seq, why);
+    return status_.CountInvalid(kOdometry, msg->header.seq, why);
   const rrr::OdometryCovariance covariance = FromRos(msg->pose.covariance);
   if (resumed_ && msg->header.stamp <= resumed_until_) {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    ++status_.inputs_already_recorded;
+    std::lock_guard<std::mutex> lock(status_.mutex);
+    ++status_.counts.inputs_already_recorded;
     return;
   }
   const rrr::KeyframeRecord<Pose> reading{
       static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose, covariance};
   const auto judged = keyframes_.Judge(reading);
   if (!judged.problem.empty()) {
-    return Invalid(kOdometry, msg->header.seq, judged.problem);
+    return status_.CountInvalid(kOdometry, msg->header.seq, judged.problem);
   }
   if (!judged.keyframe) return;
   if (keyframes_.empty()) {
@@ -60,10 +56,10 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
         newest.odometry_pose, newest.covariance, pose, covariance,
         options_.use_odometry_covariance, &source);
     {
-      std::lock_guard<std::mutex> lock(state_mutex_);
+      std::lock_guard<std::mutex> lock(status_.mutex);
       ++(source == Source::kCovarianceChange
-             ? status_.odometry_information_from_covariance
-             : status_.odometry_information_from_motion);
+             ? status_.counts.odometry_information_from_covariance
+             : status_.counts.odometry_information_from_motion);
     }
     const rrr::PoseId id = verifier_->AddOdometry(judged.motion, information);
     if (store_) {
@@ -86,19 +82,19 @@ void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
   const uint32_t seq = msg->header.seq;
   std::string why =
       WrongFrame(msg->header.frame_id, options_.base_frame, "robot");
-  if (!why.empty()) return Invalid(kLoopClosure, seq, why);
+  if (!why.empty()) return status_.CountInvalid(kLoopClosure, seq, why);
   if (msg->reference != rrr_slam::LoopClosure::BY_ID &&
       msg->reference != rrr_slam::LoopClosure::BY_STAMP) {
-    return Invalid(kLoopClosure, seq,
-                   "reference " + std::to_string(msg->reference) +
-                       " is neither BY_ID nor BY_STAMP");
+    return status_.CountInvalid(kLoopClosure, seq,
+                                "reference " + std::to_string(msg->reference) +
+                                    " is neither BY_ID nor BY_STAMP");
   }
   Pose z;
   Information information;
   if (!FromRos(msg->relative_pose.pose, &z, &why) ||
       !InformationFromCovariance<Pose>(msg->relative_pose.covariance,
                                        &information, &why)) {
-    return Invalid(kLoopClosure, seq, why);
+    return status_.CountInvalid(kLoopClosure, seq, why);
   }
   if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
     return AddLoopCandidate(seq, msg->from_id, msg->to_id, z, information);
@@ -156,9 +152,9 @@ void VerifierNode<Pose>::Skip(uint32_t seq, rrr::CandidateDefect defect,
                               const std::string& why) {
   uint64_t count;
   {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    CountCandidateDefect(defect, &status_);
-    count = CandidateDefects(status_);
+    std::lock_guard<std::mutex> lock(status_.mutex);
+    CountCandidateDefect(defect, &status_.counts);
+    count = CandidateDefects(status_.counts);
   }
   ROS_WARN_THROTTLE(
       5.0,
@@ -169,8 +165,6 @@ void VerifierNode<Pose>::Skip(uint32_t seq, rrr::CandidateDefect defect,
 }
 
 // The class is instantiated in verifier_node.cc; these members here.
-template void VerifierNode<rrr::Pose2>::Invalid(const char*, uint32_t,
-                                                const std::string&);
 template void VerifierNode<rrr::Pose2>::Process(
     const nav_msgs::Odometry::ConstPtr&);
 template void VerifierNode<rrr::Pose2>::Process(
@@ -182,8 +176,6 @@ template void VerifierNode<rrr::Pose2>::AddLoopCandidate(uint32_t, rrr::PoseId,
                                                          const Information&);
 template void VerifierNode<rrr::Pose2>::Skip(uint32_t, rrr::CandidateDefect,
                                              const std::string&);
-template void VerifierNode<rrr::Pose3>::Invalid(const char*, uint32_t,
-                                                const std::string&);
 template void VerifierNode<rrr::Pose3>::Process(
     const nav_msgs::Odometry::ConstPtr&);
 template void VerifierNode<rrr::Pose3>::Process(
