@@ -36,9 +36,10 @@ class PoseGraph {
   // Appends a pose with the given id and initial estimate; ids must increase.
   // Returns its index. Throws std::invalid_argument if `id` does not increase.
   int AddPose(PoseId id, const Pose& estimate);
-  // Makes room for `poses` poses in all and the odometry between them, so
-  // that adding them moves nothing already added.
-  void Reserve(int poses);
+  // Makes room for `poses` poses and `edges` edges in all, the odometry
+  // between consecutive poses and the rest loops, so that adding them moves
+  // nothing already added.
+  void Reserve(int poses, int edges);
   // Returns the index of `id`, or -1 if there is no such pose.
   int IndexOf(PoseId id) const;
 

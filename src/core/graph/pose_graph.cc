@@ -24,11 +24,13 @@ int PoseGraph<Pose>::AddPose(PoseId id, const Pose& estimate) {
 }
 
 template <class Pose>
-void PoseGraph<Pose>::Reserve(int poses) {
+void PoseGraph<Pose>::Reserve(int poses, int edges) {
+  const int odometry = std::min(std::max(poses - 1, 0), edges);
   ids_.reserve(poses);
   index_of_.reserve(poses);
   estimates_.reserve(poses);
-  odometry_.reserve(std::max(poses - 1, 0));
+  odometry_.reserve(odometry);
+  loops_.reserve(edges - odometry);
 }
 
 template <class Pose>

@@ -124,7 +124,8 @@ PoseGraph<Pose> BuildGraph(const std::map<PoseId, PendingVertex>& vertices,
   const auto skip = [&](const PendingEdge& e, CandidateDefect defect) {
     skipped->push_back({e.line, e.from, e.to, defect});
   };
-  graph.Reserve(static_cast<int>(vertices.size()));
+  graph.Reserve(static_cast<int>(vertices.size()),
+                static_cast<int>(edges.size()));
   for (const auto& [id, v] : vertices) {
     const std::optional<Pose> pose =
         Traits::MakePose(v.values.data(), &problem);
