@@ -69,6 +69,7 @@ bool Optimize(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
     }
   }
   std::vector<FromStart<Pose>> runs;
+  runs.reserve(pending.size());
   for (auto& run : pending) runs.push_back(run.get());
   // The lowest minimum reached (one that converged before one that did not).
   const auto better = [](const FromStart<Pose>& a, const FromStart<Pose>& b) {

@@ -284,7 +284,7 @@ Eigen::MatrixXd BlockCholesky<D>::InverseForm(const std::vector<int>& blocks,
       for (int k = 0; k < reach && solved; ++k) reached(k, j) = values[at[k]];
     }
   }
-  const Eigen::MatrixXd form =
+  Eigen::MatrixXd form =
       solved ? Eigen::MatrixXd(reached.transpose() *
                                pivots.cwiseInverse().asDiagonal() * reached)
              : Eigen::MatrixXd();

@@ -48,6 +48,7 @@ CondensedErrors SolveCondensed(const PoseGraph<Pose>& graph,
   std::vector<int> free(touched.size() > 0 ? touched.size() - 1 : 0);
   for (size_t k = 0; k < free.size(); ++k) free[k] = static_cast<int>(k + 1);
   std::vector<const Constraint<Pose>*> pointers;
+  pointers.reserve(edges.size());
   for (const auto& e : edges) pointers.push_back(&e);
 
   CondensedErrors out;

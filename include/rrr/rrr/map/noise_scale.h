@@ -95,7 +95,7 @@ class NoiseScaleEstimate {
   // `samples`, the accepted clusters' errors at the minimum of the whole map,
   // whose error there is `map_chi2`, each taken times max(1, map_chi2 / Σ of
   // their errors).
-  void SetClusterSamplesAtMinimum(std::vector<ClusterSample> samples,
+  void SetClusterSamplesAtMinimum(const std::vector<ClusterSample>& samples,
                                   double map_chi2);
 
   // Writes the samples; Restore reads them into an estimate of the same

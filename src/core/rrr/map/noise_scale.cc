@@ -130,7 +130,7 @@ void NoiseScaleEstimate::PutClusterSample(int cluster, double value,
 }
 
 void NoiseScaleEstimate::SetClusterSamplesAtMinimum(
-    std::vector<ClusterSample> samples, double map_chi2) {
+    const std::vector<ClusterSample>& samples, double map_chi2) {
   double loops_chi2 = 0.0;
   for (const ClusterSample& sample : samples) loops_chi2 += sample.error;
   const double map_over_loops =
