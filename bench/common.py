@@ -179,6 +179,21 @@ def spoil_flags(kind, group):
 SPOIL_KINDS = ["random", "local", "look-alike", "grouped"]
 
 
+def add_between_chains_arguments(parser, outliers, out_name):
+    """The options of the scripts that spoil the loops between two chains
+    (meet_once.py, never_meet.py): false loops per set, their kinds, the
+    group size, seed, window, methods compared and the output folder
+    (bench/out/OUT_NAME)."""
+    parser.add_argument("--outliers", nargs="*", type=int, default=outliers)
+    parser.add_argument("--kinds", nargs="*", default=["random", "look-alike", "grouped"], choices=SPOIL_KINDS)
+    parser.add_argument("--group", type=int, default=10, help="group size of the grouped kind")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--window", type=int, default=10)
+    parser.add_argument("--methods", nargs="*", default=["rrr", "pcm", "dcs", "gnc"],
+                        choices=["rrr", "dcs", "gnc", "pcm"])
+    parser.add_argument("--out", default=str(ROOT / "bench" / "out" / out_name))
+
+
 def spoiled_sets(args, out):
     """Makes every spoiled set of args.datasets × kinds × outliers × seeds
     (rrr spoil into OUT/NAME_KIND_N_SEED/) and yields a dict with its name,

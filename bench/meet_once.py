@@ -38,14 +38,7 @@ def one_revisit(loops, first, window):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--datasets", nargs="*", default=["manhattanOlson3500", "city10000", "sphere2500"])
-    parser.add_argument("--outliers", nargs="*", type=int, default=[100])
-    parser.add_argument("--kinds", nargs="*", default=["random", "look-alike", "grouped"], choices=common.SPOIL_KINDS)
-    parser.add_argument("--group", type=int, default=10, help="group size of the grouped kind")
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--window", type=int, default=10)
-    parser.add_argument("--methods", nargs="*", default=["rrr", "pcm", "dcs", "gnc"],
-                        choices=["rrr", "dcs", "gnc", "pcm"])
-    parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "meet_once"))
+    common.add_between_chains_arguments(parser, [100], "meet_once")
     args = parser.parse_args()
     common.require_rrr()
     out = pathlib.Path(args.out)
