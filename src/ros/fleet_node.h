@@ -92,8 +92,8 @@ class FleetNode {
   // The accepted graph of the map in `map_frame`: every robot's sessions in
   // it, each pose named by robot and keyframe id.
   rrr_slam::AcceptedGraph AcceptedGraph() const;
-  // Sets status_.counts's counts of keyframes, candidates and their states from
-  // the fleet; under status_.mutex once the worker runs.
+  // Sets the counts of keyframes, candidates and their states in
+  // status_.counts from the fleet; under status_.mutex once the worker runs.
   void CountState();
   // Runs the fleet's update (or Finish) and publishes.
   void UpdateAndPublish(bool finish);
