@@ -3,6 +3,7 @@
 #ifndef RRR_RRR_ONLINE_VERIFIER_H_
 #define RRR_RRR_ONLINE_VERIFIER_H_
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <map>
@@ -44,6 +45,11 @@ class OnlineVerifier {
   explicit OnlineVerifier(const RrrOptions& bounds);
   virtual ~OnlineVerifier() = default;
 
+  // Makes room for `poses` poses and `loops` candidates in all, so that
+  // adding them moves nothing already added; decides nothing.
+  void Reserve(int poses, int loops) {
+    graph_.Reserve(poses, std::max(poses - 1, 0) + loops);
+  }
   // Starts the chain at pose `id`. Throws std::logic_error if it has started.
   void AddFirstPose(PoseId id, const Pose& pose);
   // Appends the pose with the next id (last id + 1), reached from the last

@@ -252,6 +252,7 @@ std::vector<int> FeedInArrivalOrder(
     if (on_changes) on_changes(changes);
   };
   std::vector<int> loop_of_candidate;
+  verifier->Reserve(graph.num_poses(), static_cast<int>(graph.loops().size()));
   for (int p = 0; p < graph.num_poses(); ++p) {
     if (p == 0) {
       verifier->AddFirstPose(graph.ids()[0], graph.estimates()[0]);
