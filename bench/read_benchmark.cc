@@ -8,6 +8,7 @@
 #include <string>
 
 #include "../src/core/testing/dataset_dir.h"
+#include "dataset_or_skip.h"
 #include "rrr/io/g2o.h"
 
 namespace rrr {
@@ -15,14 +16,7 @@ namespace {
 
 void ReadDataset(benchmark::State& state, const std::string& name) {
   const std::string path = testing::DatasetDir() + "/" + name + ".g2o";
-  if (!std::ifstream(path)) {
-    state.SkipWithError(("dataset not found: " + path +
-                         " (set RRR_DATASETS to the datasets folder)")
-                            .c_str());
-    for (auto _ : state) {
-    }
-    return;
-  }
+  if (!DatasetOrSkip(state, path)) return;
   int poses = 0;
   for (auto _ : state) {
     const G2oFile file = ReadG2o(path);

@@ -6,11 +6,11 @@
 #include <sys/resource.h>
 
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <string>
 
 #include "../src/core/testing/dataset_dir.h"
+#include "dataset_or_skip.h"
 #include "rrr/io/g2o.h"
 #include "rrr/solver/pose_graph_solver.h"
 
@@ -40,14 +40,7 @@ void SolveAll(benchmark::State& state, const PoseGraph<Pose>& graph) {
 
 void SolveDataset(benchmark::State& state, const std::string& name) {
   const std::string path = DatasetPath(name);
-  if (!std::ifstream(path)) {
-    state.SkipWithError(("dataset not found: " + path +
-                         " (set RRR_DATASETS to the datasets folder)")
-                            .c_str());
-    for (auto _ : state) {
-    }
-    return;
-  }
+  if (!DatasetOrSkip(state, path)) return;
   const G2oFile file = ReadG2o(path);
   std::visit([&state](const auto& g) { SolveAll(state, g); }, file.graph);
 }
