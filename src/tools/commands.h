@@ -8,7 +8,9 @@ namespace rrr {
 
 inline constexpr char kToBagDescription[] =
     "Write a g2o file as a bag of rrr_node's inputs: odometry at the poses' "
-    "times, each loop candidate just after its later pose.";
+    "times, each loop candidate just after its later pose; a graph of "
+    "several odometry chains as a fleet's (each robot's odometry on "
+    "<robot>/odom, starting again at zero with each of its sessions).";
 
 void AddVerifyCommand(CLI::App& app);
 void AddOptimizeCommand(CLI::App& app);

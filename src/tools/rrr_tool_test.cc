@@ -483,6 +483,45 @@ TEST(RrrTool, ToBagRunsItsOwnProgramWithEveryArgument) {
   EXPECT_THAT(missing.output, HasSubstr("--output is required"));
 }
 
+TEST(RrrTool, ToBagWritesSeveralChainsAsAFleetsTopics) {
+  // Robot 'a' in two sessions (a gap in its ids after 4, then 6..9) and
+  // robot 'b' in one, each step 1 m: a fleet's bag, or refused where the
+  // node could not see a's restart.
+  const std::string fleet = Tmp("bag_fleet.g2o"), bag = Tmp("fleet.bag");
+  const long long a = static_cast<long long>('a') << 56;
+  const long long b = static_cast<long long>('b') << 56;
+  {
+    std::ofstream f(fleet);
+    for (const auto& [robot, ids] :
+         {std::pair(a, std::vector<int>{0, 1, 2, 3, 4, 6, 7, 8, 9}),
+          std::pair(b, std::vector<int>{0, 1, 2, 3})}) {
+      for (size_t k = 0; k < ids.size(); ++k) {
+        f << "VERTEX_SE2 " << robot + ids[k] << " " << k << " 0 0\n";
+        if (k > 0 && ids[k] == ids[k - 1] + 1) {
+          f << "EDGE_SE2 " << robot + ids[k - 1] << " " << robot + ids[k]
+            << " 1 0 0 1 0 0 1 0 1\n";
+        }
+      }
+    }
+    f << "EDGE_SE2 " << a + 7 << " " << b + 2 << " 0 3 0 1 0 0 1 0 1\n";
+  }
+  std::remove(bag.c_str());
+  const Result r = Rrr("to-bag " + fleet + " --rate 10 -o " + bag);
+  ASSERT_EQ(r.status, 0) << r.output;
+  // a's keyframes 0-8 (its second session from 5) and b's 0-3 side by side.
+  EXPECT_THAT(r.output, HasSubstr("wrote 13 odometry messages of 2 robots "
+                                  "(3 sessions) and 1 loop candidates "
+                                  "(0.8 s)"));
+  EXPECT_TRUE(std::ifstream(bag).good());
+  // a's first session ends 4 m from where its odometry starts again.
+  const Result hidden =
+      Rrr("to-bag " + fleet + " --restart-jump 4 -o " + Tmp("hidden.bag"));
+  EXPECT_EQ(hidden.status, 1);
+  EXPECT_THAT(hidden.output,
+              HasSubstr("robot a's session from pose " + std::to_string(a + 6) +
+                        " starts again at zero within --restart-jump"));
+}
+
 TEST(RrrTool, NeverWritesOverItsInputOrOneOutputWithAnother) {
   const std::string input = Tmp("precious.g2o");
   Rrr("simulate --poses 200 --false-loops 5 -o " + input + " -t " +
