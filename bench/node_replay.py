@@ -6,6 +6,12 @@ loops equal rrr verify's on the same file.
 
     bench/node_replay.py [--level 0.150] [--rate 10] [--span-gate]
     bench/node_replay.py --g2o FILE --window 10 [--rate 10]
+    bench/node_replay.py --g2o FLEET.g2o --robots "[a, b, c]" --restart-jump 5 --window 10
+
+A file of several odometry chains (robots as GTSAM symbols) plays as a
+fleet's bag (README, "Replaying a fleet's graph") into the node serving
+`--robots`; its decisions are compared with rrr verify's by robot and
+keyframe id.
 """
 import argparse
 import pathlib
@@ -14,6 +20,7 @@ import sys
 import time
 
 import common
+import ros_processes
 
 
 def main():
@@ -23,6 +30,9 @@ def main():
     parser.add_argument("--window", type=int, default=50)
     parser.add_argument("--rate", type=float, default=10.0)
     parser.add_argument("--span-gate", action="store_true")
+    parser.add_argument("--robots", help="a fleet's robots, e.g. '[a, b, c]'")
+    parser.add_argument("--restart-jump", type=float, default=1.0,
+                        help="the node's restart_jump (and rrr to-bag's), with --robots")
     parser.add_argument("--port", type=int, default=11521)
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "node_replay"))
     args = parser.parse_args()
@@ -37,16 +47,21 @@ def main():
         g2o = data / f"B25b_{args.level}.g2o"
         stamps = ["--timestamps", data / "B25b_timestamps.txt"]
     bag = out / "input.bag"
-    common.run("to-bag", g2o, *stamps, "--output", bag)
+    fleet = ["--restart-jump", str(args.restart_jump)] if args.robots else []
+    common.run("to-bag", g2o, *stamps, *fleet, "--output", bag)
     extra = ["--span-gate"] if args.span_gate else []
     report, _, _ = common.verify(g2o, args.window, out, 1, extra)
     expected = {tuple(p) for p in report["accepted"]}
+    if args.robots:  # by robot and keyframe id, as the node names them
+        names = ros_processes.fleet_names(g2o)
+        expected = {(names[i], names[j]) for i, j in expected}
 
     env = common.ros_env(args.port)
     launch = subprocess.Popen(
         ["roslaunch", "-p", str(args.port), "rrr_slam", "replay.launch", f"bag:={bag}",
          f"rate:={args.rate}", f"cluster_window:={args.window}",
-         f"span_gate:={'true' if args.span_gate else 'false'}"],
+         f"span_gate:={'true' if args.span_gate else 'false'}",
+         f"robots:={args.robots or '[]'}", f"restart_jump:={args.restart_jump}"],
         env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         start = time.time()
@@ -62,11 +77,14 @@ def main():
         saved = out / "node_map.g2o"
         common.service(env, "/rrr_node/save_graph", f"{{path: '{saved}', with_candidates: false}}")
         final = common.service(env, "/rrr_node/get_status")
+        if args.robots:  # the saved graph's ids are the node's, not the file's
+            accepted = {((d["from_robot"], int(d["from_id"])), (d["to_robot"], int(d["to_id"])))
+                        for d in ros_processes.decisions(env) if d["state"] == "1"}
+        else:
+            accepted = {key for key, _ in common.loop_lines(saved)[1]}
     finally:
         launch.terminate()
         launch.wait()
-    _, loops = common.loop_lines(saved)
-    accepted = {key for key, _ in loops}
     print(f"input {g2o.name} at {args.rate}x: {report['poses']} odometry messages, "
           f"{report['candidates']} candidates")
     print(f"candidate latency (arrival -> its update published): "

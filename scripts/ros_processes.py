@@ -84,6 +84,39 @@ def service(env, name, request="{}", timeout=600):
     return fields
 
 
+def decisions(env, timeout=120):
+    """Every candidate of ~get_decisions, in order, as a dict of its fields
+    (from_robot, from_id, to_robot, to_id, state, test, ...), as strings."""
+    out = subprocess.run(["rosservice", "call", "/rrr_node/get_decisions", "{}"], env=env,
+                         capture_output=True, text=True, timeout=timeout, check=True).stdout
+    every = []
+    for line in out.splitlines():
+        stripped = line.strip()
+        if stripped == "-" or stripped.startswith("- "):  # a list's next entry
+            every.append({})
+            stripped = stripped[1:].strip()
+        if every and ":" in stripped:
+            key, value = stripped.split(":", 1)
+            every[-1][key.strip()] = value.strip().strip('"')
+    return every
+
+
+def fleet_names(g2o):
+    """The poses of g2o file `g2o` (robots keyed as GTSAM symbols) as a
+    fleet's rrr_node names them: id -> (robot, keyframe id), each robot's
+    keyframes numbered 0, 1, ... in id order over all its sessions."""
+    names, count = {}, {}
+    with open(g2o) as f:
+        for line in f:
+            fields = line.split()
+            if fields and fields[0].startswith("VERTEX"):
+                key = int(fields[1])
+                robot = chr(key >> 56)
+                names[key] = (robot, count.get(robot, 0))
+                count[robot] = count.get(robot, 0) + 1
+    return names
+
+
 def node_pid(launch, name="rrr_node", seconds=60):
     """The pid of the process `name` that roslaunch `launch` started."""
     def find():

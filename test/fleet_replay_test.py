@@ -15,7 +15,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 from ros_processes import (  # noqa: E402
-    ROSBAG_PLAY, free_port, ros_env, service, start, stop, wait_for)
+    ROSBAG_PLAY, decisions, fleet_names, free_port, ros_env, service, start, stop, wait_for)
 
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
 RRR = BUILD / "devel" / "lib" / "rrr_slam" / "rrr"
@@ -52,27 +52,6 @@ def cut_session(src, dst, robot, at):
             out.write(" ".join(fields) + "\n")
 
 
-def node_decisions(env):
-    """Every candidate's (from robot, from id, to robot, to id) -> state, from
-    ~get_decisions."""
-    out = subprocess.run(["rosservice", "call", "/rrr_node/get_decisions", "{}"], env=env,
-                         capture_output=True, text=True, timeout=120, check=True).stdout
-    decisions, current = {}, {}
-    for line in out.splitlines():
-        key, _, value = line.strip().lstrip("- ").partition(":")
-        value = value.strip().strip('"')
-        if key in ("from_id", "to_id", "state"):
-            current[key] = int(value)
-        elif key in ("from_robot", "to_robot"):
-            current[key] = value
-            if key == "to_robot":
-                ends = (current["from_robot"], current["from_id"], current["to_robot"],
-                        current["to_id"])
-                decisions[ends] = current["state"]
-                current = {}
-    return decisions
-
-
 def test_fleet_bag_replays_as_rrr_verify_decides_the_file(tmp_path):
     world, cut = tmp_path / "world.g2o", tmp_path / "cut.g2o"
     subprocess.run([RRR, "simulate", "--poses", "1500", "--robots", "3", "--false-loops", "30",
@@ -90,17 +69,8 @@ def test_fleet_bag_replays_as_rrr_verify_decides_the_file(tmp_path):
     expected_report = json.loads(report.read_text())
     assert len(expected_report["chains"]) == 4, expected_report["chains"]
 
-    # The file's poses as the node names them: robot and keyframe id, each
-    # robot's keyframes counted over its sessions.
-    name, count = {}, {}
-    with open(cut) as f:
-        for line in f:
-            fields = line.split()
-            if fields and fields[0].startswith("VERTEX"):
-                key = int(fields[1])
-                robot = robot_of(key)
-                name[key] = (robot, count.get(robot, 0))
-                count[robot] = count.get(robot, 0) + 1
+    # The file's poses as the node names them.
+    name = fleet_names(cut)
     loops = expected_report["decisions"]
     expected = {(*name[d["pair"][0]], *name[d["pair"][1]]):
                 1 if d["state"] == "accepted" else 2 for d in loops}
@@ -125,7 +95,8 @@ def test_fleet_bag_replays_as_rrr_verify_decides_the_file(tmp_path):
             service(env, "/rrr_node/get_status", timeout=60)), 240, "every input")
         finished = service(env, "/rrr_node/finish", timeout=300)
         assert int(finished["pending"]) == 0, finished
-        decided = node_decisions(env)
+        decided = {(d["from_robot"], int(d["from_id"]), d["to_robot"], int(d["to_id"])):
+                   int(d["state"]) for d in decisions(env)}
         graph = tmp_path / "recorded.g2o"
         saved = service(env, "/rrr_node/save_graph",
                         f"{{path: '{graph}', with_candidates: false}}", timeout=120)

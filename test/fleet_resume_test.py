@@ -16,7 +16,8 @@ import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
-from ros_processes import free_port, node_pid, ros_env, service, stop, wait_for  # noqa: E402
+from ros_processes import (  # noqa: E402
+    decisions, free_port, node_pid, ros_env, service, stop, wait_for)
 
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
 LIB = BUILD / "devel" / "lib" / "rrr_slam"
@@ -29,21 +30,6 @@ def as_time(ns):
 
 def status(env):
     return service(env, "/rrr_node/get_status", timeout=60)
-
-
-def decisions(env):
-    """Every candidate's (state, test) by number, from ~get_decisions."""
-    out = subprocess.run(["rosservice", "call", "/rrr_node/get_decisions", "{}"], env=env,
-                         capture_output=True, text=True, timeout=120, check=True).stdout
-    states, tests = [], []
-    for line in out.splitlines():
-        line = line.strip()
-        if line.startswith("state:"):
-            states.append(int(line.split(":")[1]))
-        elif line.startswith("test:"):
-            tests.append(line.split(":", 1)[1].strip().strip('"'))
-    assert len(states) == len(tests), out[-2000:]
-    return list(zip(states, tests))
 
 
 def node_alone(env, database, log):
@@ -111,7 +97,7 @@ def test_killed_fleet_node_resumes_and_decides_as_rrr_verify(tmp_path):
         saved = service(env, "/rrr_node/save_graph",
                         f"{{path: '{graph}', with_candidates: true}}", timeout=120)
         assert saved.get("success") == "True", saved
-        first = decisions(env)
+        first = [(d["state"], d["test"]) for d in decisions(env)]
         stop(node)
 
         # rrr verify on the graph the resumed node recorded: the same loops.
@@ -127,7 +113,7 @@ def test_killed_fleet_node_resumes_and_decides_as_rrr_verify(tmp_path):
         node = node_alone(env, database, log)
         again = wait_for(lambda: status(env), 300, "the node started again")
         assert int(again["resumed_keyframes"]) == keyframes, again
-        assert decisions(env) == first
+        assert [(d["state"], d["test"]) for d in decisions(env)] == first
     finally:
         for process in (node, launch, master):
             stop(process)

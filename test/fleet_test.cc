@@ -185,6 +185,10 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
   }
   const auto status = rrr_test::Status();
   EXPECT_EQ(status.invalid_messages, 0u);
+  // Each candidate's latency, from its arrival to the update that published
+  // it, is measured (none is published before it arrives).
+  EXPECT_GT(status.candidate_latency_p50, 0.0);
+  EXPECT_GE(status.candidate_latency_max, status.candidate_latency_p99);
   // /diagnostics: the node's status, OK (nothing invalid, nothing refused).
   diagnostic_msgs::DiagnosticArray::ConstPtr diagnostics;
   auto diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(

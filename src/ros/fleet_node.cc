@@ -10,6 +10,7 @@
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <type_traits>
 
 #include "graph_messages.h"
 #include "msg_conversion.h"
@@ -301,8 +302,12 @@ void FleetNode<Pose>::OnTfTimer(const ros::TimerEvent&) {
 template <class Pose>
 void FleetNode<Pose>::Run() {
   worker_.Run(
-      [this](const auto& message, typename Worker::Clock::time_point) {
+      [this](const auto& message, typename Worker::Clock::time_point arrival) {
         Process(message);
+        if constexpr (!std::is_same_v<std::decay_t<decltype(message)>,
+                                      RobotOdometry>) {
+          status_.NoteCandidateArrival(arrival);
+        }
         ++taken_since_update_;
       },
       [this] { UpdateAndPublish(false); });
@@ -405,6 +410,7 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
   status_.counts.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
   status_.timings.AddUpdate(seconds);
+  status_.AddCandidateLatencies();
 }
 
 template <class Pose>

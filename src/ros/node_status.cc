@@ -19,6 +19,20 @@ void NodeStatus::Serve(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
       nh.createTimer(ros::Duration(1.0), &NodeStatus::OnDiagnosticsTimer, this);
 }
 
+void NodeStatus::NoteCandidateArrival(
+    std::chrono::steady_clock::time_point arrival) {
+  unpublished_arrivals_.push_back(arrival);
+}
+
+void NodeStatus::AddCandidateLatencies() {
+  const auto published = std::chrono::steady_clock::now();
+  for (const auto& arrival : unpublished_arrivals_) {
+    timings.AddLatency(
+        std::chrono::duration<double>(published - arrival).count());
+  }
+  unpublished_arrivals_.clear();
+}
+
 rrr_slam::GetStatus::Response NodeStatus::Snapshot() {
   rrr_slam::GetStatus::Response out;
   UpdateTimings now;

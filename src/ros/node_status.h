@@ -6,10 +6,12 @@
 #include <ros/ros.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "rrr_slam/GetStatus.h"
 #include "update_timings.h"
@@ -35,6 +37,11 @@ class NodeStatus {
   // message `seq`, with `why`.
   void CountInvalid(const std::string& kind, uint32_t seq,
                     const std::string& why);
+  // The worker notes when each loop candidate it takes in arrived; the
+  // update that publishes its state then adds its latency (under `mutex`)
+  // with AddCandidateLatencies().
+  void NoteCandidateArrival(std::chrono::steady_clock::time_point arrival);
+  void AddCandidateLatencies();
 
   // The worker's counters and update timings, under `mutex`.
   std::mutex mutex;
@@ -49,6 +56,8 @@ class NodeStatus {
   void OnDiagnosticsTimer(const ros::TimerEvent& event);
 
   QueueStatus queue_status_;
+  // Arrivals of the candidates taken in since the last update (worker).
+  std::vector<std::chrono::steady_clock::time_point> unpublished_arrivals_;
   ros::ServiceServer status_srv_;
   ros::Publisher diagnostics_pub_;
   ros::Timer diagnostics_timer_;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <fstream>
 #include <mutex>
+#include <type_traits>
 
 #include "graph_messages.h"
 #include "msg_conversion.h"
@@ -277,7 +278,7 @@ void VerifierNode<Pose>::Run() {
         Process(msg);
         if constexpr (std::is_same_v<std::decay_t<decltype(msg)>,
                                      rrr_slam::LoopClosure::ConstPtr>) {
-          unpublished_arrivals_.push_back(arrival);
+          status_.NoteCandidateArrival(arrival);
         }
         ++taken_since_update_;
       },
@@ -343,12 +344,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   status_.counts.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
   status_.timings.AddUpdate(seconds);
-  const auto published = Worker::Clock::now();
-  for (const auto& arrival : unpublished_arrivals_) {
-    status_.timings.AddLatency(
-        std::chrono::duration<double>(published - arrival).count());
-  }
-  unpublished_arrivals_.clear();
+  status_.AddCandidateLatencies();
 }
 
 template <class Pose>

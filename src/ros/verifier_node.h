@@ -137,8 +137,6 @@ class VerifierNode {
   rrr::DecisionDelta decision_delta_;  // what ~decisions carries next
   // Whether ~path, ~graph and ~accepted_graph are behind the state.
   bool path_stale_ = false, markers_stale_ = false, graph_stale_ = false;
-  // Arrival times of the candidates taken in since the last update.
-  std::vector<typename Worker::Clock::time_point> unpublished_arrivals_;
   ros::WallTime last_path_, last_markers_, last_graph_;  // last published
 
   // Shared with the ROS threads under `status_.mutex`.
