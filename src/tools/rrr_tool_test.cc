@@ -520,6 +520,50 @@ TEST(RrrTool, ToBagWritesSeveralChainsAsAFleetsTopics) {
   EXPECT_THAT(hidden.output,
               HasSubstr("robot a's session from pose " + std::to_string(a + 6) +
                         " starts again at zero within --restart-jump"));
+  // Time stamps (line k: pose k) must not go back along a robot's poses,
+  // whatever the other robots' do: b's start again at 1.
+  const std::string stamps = Tmp("bag_fleet_stamps.txt");
+  {
+    std::ofstream f(stamps);
+    for (int k = 0; k < 9; ++k) f << 10 + k << "\n";
+    for (int k = 0; k < 4; ++k) f << 1 + k << "\n";
+    f << "3.5\n";  // one more than the poses: not read
+  }
+  EXPECT_EQ(Rrr("to-bag " + fleet + " --timestamps " + stamps + " -o " +
+                Tmp("stamped.bag"))
+                .status,
+            0);
+  {
+    std::ofstream f(stamps);
+    for (int k = 0; k < 13; ++k) f << (k == 11 ? 5 : 10 + k) << "\n";
+  }
+  const Result back = Rrr("to-bag " + fleet + " --timestamps " + stamps +
+                          " -o " + Tmp("stamped.bag"));
+  EXPECT_EQ(back.status, 1);
+  EXPECT_THAT(back.output,
+              HasSubstr(stamps + ":12: time stamps must not "
+                                 "decrease along a robot's poses"));
+  // A bag holds nothing at time 0.
+  {
+    std::ofstream f(stamps);
+    for (int k = 0; k < 13; ++k) f << k << "\n";
+  }
+  EXPECT_THAT(Rrr("to-bag " + fleet + " --timestamps " + stamps + " -o " +
+                  Tmp("stamped.bag"))
+                  .output,
+              HasSubstr(stamps + ":1: time stamps must be after 0"));
+  // Chains whose ids are not GTSAM symbols are sessions of one robot.
+  const std::string sessions = Tmp("bag_sessions.g2o");
+  std::ofstream(sessions) << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+                             "VERTEX_SE2 2 2 0 0\nVERTEX_SE2 4 0 0 0\n"
+                             "VERTEX_SE2 5 1 0 0\n"
+                             "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
+                             "EDGE_SE2 1 2 1 0 0 1 0 0 1 0 1\n"
+                             "EDGE_SE2 4 5 1 0 0 1 0 0 1 0 1\n";
+  const Result one =
+      Rrr("to-bag " + sessions + " --robot r -o " + Tmp("sessions.bag"));
+  ASSERT_EQ(one.status, 0) << one.output;
+  EXPECT_THAT(one.output, HasSubstr("of 1 robots (2 sessions)"));
 }
 
 TEST(RrrTool, NeverWritesOverItsInputOrOneOutputWithAnother) {

@@ -93,7 +93,8 @@ std::vector<BagPose> NameThePoses(const PoseGraph<Pose>& graph,
 
 // The time of each pose: from `args.timestamps` (line k: pose k), else each
 // robot's keyframe k at 1 + k / rate (robots drive side by side). Throws
-// InputError if a robot's times decrease or there are too few.
+// InputError if a time is not after 0, a robot's times decrease or there
+// are too few.
 std::vector<double> PoseTimes(const std::vector<BagPose>& named,
                               const ToBagArgs& args) {
   const int n = static_cast<int>(named.size());
@@ -112,6 +113,11 @@ std::vector<double> PoseTimes(const std::vector<BagPose>& named,
   }
   std::map<std::string, double> last;
   for (int k = 0; k < n; ++k) {
+    if (!(times[k] > 0.0)) {
+      throw InputError(args.timestamps, k + 1,
+                       "time stamps must be after 0 (a bag holds nothing at "
+                       "or before time 0)");
+    }
     const auto previous = last.find(named[k].robot);
     if (previous != last.end() && !(times[k] >= previous->second)) {
       throw InputError(args.timestamps, k + 1,
