@@ -101,19 +101,25 @@ def decisions(env, timeout=120):
     return every
 
 
-def fleet_names(g2o):
-    """The poses of g2o file `g2o` (robots keyed as GTSAM symbols) as a
-    fleet's rrr_node names them: id -> (robot, keyframe id), each robot's
-    keyframes numbered 0, 1, ... in id order over all its sessions."""
-    names, count = {}, {}
+def fleet_names(g2o, robot="a"):
+    """The poses of g2o file `g2o` as `rrr to-bag` names them for a fleet's
+    rrr_node: id -> (robot, keyframe id). The robot of an id is the letter
+    of its GTSAM symbol (top byte), else `robot`; each robot's keyframes are
+    numbered 0, 1, ... in id order over all its sessions."""
+    ids = set()
     with open(g2o) as f:
         for line in f:
             fields = line.split()
             if fields and fields[0].startswith("VERTEX"):
-                key = int(fields[1])
-                robot = chr(key >> 56)
-                names[key] = (robot, count.get(robot, 0))
-                count[robot] = count.get(robot, 0) + 1
+                ids.add(int(fields[1]))
+            elif fields and fields[0].startswith("EDGE"):
+                ids.update((int(fields[1]), int(fields[2])))
+    names, count = {}, {}
+    for key in sorted(ids):
+        letter = chr(key >> 56)
+        owner = letter if letter.isalpha() else robot
+        names[key] = (owner, count.get(owner, 0))
+        count[owner] = count.get(owner, 0) + 1
     return names
 
 
