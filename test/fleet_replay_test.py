@@ -89,10 +89,20 @@ def test_fleet_bag_replays_as_rrr_verify_decides_the_file(tmp_path):
         node = start([BUILD / "devel" / "lib" / "rrr_slam" / "rrr_node", "__name:=rrr_node",
                       "_robots:=[a, b, c]", "_restart_jump:=5.0",
                       f"_cluster_window:={window}"], env, log)
+        wait_for(lambda: service(env, "/rrr_node/get_status", timeout=60), 60, "the node")
         player = start(ROSBAG_PLAY + ["-r", "5", str(bag)], env, log)
-        wait_for(lambda: (lambda s: s if int(s.get("keyframes", 0)) == 1500 and
-                          int(s.get("loop_closures_received", 0)) == len(loops) else None)(
-            service(env, "/rrr_node/get_status", timeout=60)), 240, "every input")
+        last = {}
+
+        def every_input_taken():
+            last.update(service(env, "/rrr_node/get_status", timeout=60))
+            return (int(last.get("keyframes", 0)) == 1500 and
+                    int(last.get("loop_closures_received", 0)) == len(loops) and
+                    last.get("queue_length") == "0")
+        try:
+            wait_for(every_input_taken, 240, "every input")
+        except AssertionError as e:
+            raise AssertionError(f"{e}: the node's status {last}; exit codes: node "
+                                 f"{node.poll()}, player {player.poll()}") from None
         finished = service(env, "/rrr_node/finish", timeout=300)
         assert int(finished["pending"]) == 0, finished
         decided = {(d["from_robot"], int(d["from_id"]), d["to_robot"], int(d["to_id"])):
