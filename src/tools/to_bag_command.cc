@@ -188,8 +188,20 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
     }
     session_end[robot] = steps.Relative(0, span.size() - 1);
   }
-  // Each loop just after the later of its poses.
+  // Each loop just after the later of its poses, numbered in the order the
+  // bag holds them: `header_of` is where a message of its kind has its header.
   uint32_t seq = 0;
+  const auto queue_loop = [&messages, &seq](double time,
+                                            const std::string& topic,
+                                            auto message, auto header_of) {
+    messages.push_back(
+        {time, [message, header_of, &seq, &topic](rosbag::Bag& bag,
+                                                  const ros::Time& t) mutable {
+           header_of(message).seq = seq++;
+           header_of(message).stamp = t;
+           bag.write(topic, t, message);
+         }});
+  };
   for (const auto& e : graph.loops()) {
     rrr_slam::LoopClosure loop;
     loop.header.frame_id = args.base_frame;
@@ -204,26 +216,18 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
     loop.confidence = -1.0;
     const double time = std::max(times[e.from], times[e.to]) + 1e-6;
     if (spans.size() == 1) {
-      messages.push_back(
-          {time, [loop, &seq, &args](rosbag::Bag& bag, const ros::Time& t) {
-             rrr_slam::LoopClosure stamped = loop;
-             stamped.header.seq = seq++;
-             stamped.header.stamp = t;
-             bag.write(args.loop_topic, t, stamped);
-           }});
+      queue_loop(
+          time, args.loop_topic, loop,
+          [](rrr_slam::LoopClosure & m) -> auto& { return m.header; });
       continue;
     }
     rrr_slam::FleetLoopClosure fleet_loop;
     fleet_loop.from_robot = named[e.from].robot;
     fleet_loop.to_robot = named[e.to].robot;
     fleet_loop.loop = loop;
-    messages.push_back(
-        {time, [fleet_loop, &seq, &args](rosbag::Bag& bag, const ros::Time& t) {
-           rrr_slam::FleetLoopClosure stamped = fleet_loop;
-           stamped.loop.header.seq = seq++;
-           stamped.loop.header.stamp = t;
-           bag.write(args.fleet_loop_topic, t, stamped);
-         }});
+    queue_loop(
+        time, args.fleet_loop_topic, fleet_loop,
+        [](rrr_slam::FleetLoopClosure & m) -> auto& { return m.loop.header; });
   }
   std::stable_sort(
       messages.begin(), messages.end(),
