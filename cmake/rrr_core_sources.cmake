@@ -19,6 +19,7 @@ set(RRR_CORE_SOURCES
   src/core/graph/covariance.cc
   src/core/graph/odometry_chain.cc
   src/core/graph/odometry_noise.cc
+  src/core/graph/odometry_input.cc
   src/core/solver/chain_maps.cc
   src/core/solver/chordal_initialization.cc
   src/core/solver/local_problem.cc
@@ -53,6 +54,7 @@ set(RRR_CORE_SOURCES
   src/core/rrr/chains/verify_chains.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc
+  src/core/session/robot_session.cc
   src/core/session/fleet_store.cc
   src/core/session/session_tables.cc
   src/core/session/compressed_blob.cc

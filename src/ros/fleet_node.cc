@@ -26,13 +26,8 @@ constexpr int kQueueSize = 10000;  // ROS subscriber queues
 rrr::FleetOptions FleetOptionsOf(const NodeOptions& options) {
   rrr::FleetOptions fleet;
   fleet.rrr = options.rrr;
-  fleet.keyframe_translation = options.keyframe_translation;
-  fleet.keyframe_rotation = options.keyframe_rotation;
+  fleet.odometry = options.odometry;
   fleet.restart_jump = options.restart_jump;
-  fleet.use_odometry_covariance = options.use_odometry_covariance;
-  fleet.odometry_information = options.odometry_information;
-  fleet.odometry_min_motion = options.odometry_min_motion;
-  fleet.stamp_tolerance_ns = std::llround(options.stamp_tolerance * 1e9);
   // An update must not wait for the loops between robots to be judged
   // again over the whole graph.
   fleet.judge_between_in_background = true;

@@ -48,33 +48,41 @@ NodeOptions NodeOptions::Read(const ros::NodeHandle& nh) {
   }
   if (o.map_frame == o.odom_frame)
     Bad(nh, "map_frame", "must differ from odom_frame");
-  nh.param("keyframe/translation", o.keyframe_translation,
-           o.keyframe_translation);
-  nh.param("keyframe/rotation", o.keyframe_rotation, o.keyframe_rotation);
-  if (!(o.keyframe_translation >= 0))
+  rrr::OdometryInputOptions& odometry = o.odometry;
+  nh.param("keyframe/translation", odometry.keyframe_translation,
+           odometry.keyframe_translation);
+  nh.param("keyframe/rotation", odometry.keyframe_rotation,
+           odometry.keyframe_rotation);
+  if (!(odometry.keyframe_translation >= 0))
     Bad(nh, "keyframe/translation", "must be >= 0");
-  if (!(o.keyframe_rotation >= 0)) Bad(nh, "keyframe/rotation", "must be >= 0");
-  nh.param("odometry/use_covariance", o.use_odometry_covariance,
-           o.use_odometry_covariance);
+  if (!(odometry.keyframe_rotation >= 0))
+    Bad(nh, "keyframe/rotation", "must be >= 0");
+  nh.param("odometry/use_covariance", odometry.use_odometry_covariance,
+           odometry.use_odometry_covariance);
   const size_t dof = o.dimension == 2 ? 3 : 6;
-  o.odometry_information.assign(dof, 100.0);
-  nh.param("odometry/information", o.odometry_information,
-           o.odometry_information);
-  if (o.odometry_information.size() != dof) {
+  odometry.odometry_information.assign(dof, 100.0);
+  nh.param("odometry/information", odometry.odometry_information,
+           odometry.odometry_information);
+  if (odometry.odometry_information.size() != dof) {
     Bad(nh, "odometry/information",
         "needs " + std::to_string(dof) + " values (the diagonal)");
   }
-  for (const double v : o.odometry_information) {
+  for (const double v : odometry.odometry_information) {
     if (!(v > 0 && std::isfinite(v))) {
       Bad(nh, "odometry/information", "values must be positive and finite");
     }
   }
-  nh.param("odometry/min_motion", o.odometry_min_motion, o.odometry_min_motion);
-  if (!(o.odometry_min_motion > 0 && std::isfinite(o.odometry_min_motion))) {
+  nh.param("odometry/min_motion", odometry.odometry_min_motion,
+           odometry.odometry_min_motion);
+  if (!(odometry.odometry_min_motion > 0 &&
+        std::isfinite(odometry.odometry_min_motion))) {
     Bad(nh, "odometry/min_motion", "must be positive and finite");
   }
-  nh.param("stamp_tolerance", o.stamp_tolerance, o.stamp_tolerance);
-  if (!(o.stamp_tolerance >= 0)) Bad(nh, "stamp_tolerance", "must be >= 0");
+  double stamp_tolerance = odometry.stamp_tolerance_ns * 1e-9;
+  nh.param("stamp_tolerance", stamp_tolerance, stamp_tolerance);
+  if (!(stamp_tolerance >= 0 && stamp_tolerance < 1e9))
+    Bad(nh, "stamp_tolerance", "must be >= 0 (s) and below 1e9");
+  odometry.stamp_tolerance_ns = std::llround(stamp_tolerance * 1e9);
   nh.param("tf_period", o.tf_period, o.tf_period);
   if (!(o.tf_period > 0)) Bad(nh, "tf_period", "must be > 0");
   nh.param("display_period", o.display_period, o.display_period);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "rrr/graph/odometry_input.h"
 #include "rrr/rrr/options.h"
 #include "rrr/session/session_store.h"
 
@@ -17,20 +18,10 @@ struct NodeOptions {
   std::string map_frame = "map";
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
-  // A keyframe is made when the robot moved more than this since the last
-  // one (0 and 0: every odometry message).
-  double keyframe_translation = 0.0;  // m
-  double keyframe_rotation = 0.0;     // rad
-  // An odometry edge's information (rrr::OdometryNoiseModel): from the
-  // change of the messages' pose covariance between the keyframes when it
-  // is positive definite and this is true; otherwise from
-  // `odometry_information` (diagonal, x y yaw or x y z rx ry rz: of one metre
-  // or radian of motion) scaled by the metres plus radians travelled, at
-  // least `odometry_min_motion`.
-  bool use_odometry_covariance = true;
-  std::vector<double> odometry_information;
-  double odometry_min_motion = 0.05;
-  // A loop named by stamps takes the keyframes nearest in time within this.
+  // How odometry messages become keyframes and odometry edges (the
+  // parameters keyframe/*, odometry/* and stamp_tolerance, in s): the same
+  // for one robot and for each robot of a fleet.
+  rrr::OdometryInputOptions odometry;
   // The session database (rrr::SessionStore): every input and decision is
   // recorded there, and a node started on an existing one resumes it.
   // Empty: no database.
@@ -39,8 +30,7 @@ struct NodeOptions {
   // database, from which a resume starts instead of running every update
   // again (0: none).
   int checkpoint_keyframes = rrr::kDefaultCheckpointKeyframes;
-  double stamp_tolerance = 0.1;  // s
-  double tf_period = 0.1;        // s; map -> odom is re-broadcast this often
+  double tf_period = 0.1;  // s; map -> odom is re-broadcast this often
   // Least seconds between two messages on ~path and ~graph, and on
   // ~accepted_graph; each is built only while it has a subscriber.
   double display_period = 0.2;

@@ -3,19 +3,14 @@
 #include <nav_msgs/Path.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <mutex>
 #include <type_traits>
 
 #include "graph_messages.h"
 #include "msg_conversion.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/map/map_verifier.h"
-#include "rrr/rrr/published/incremental_verifier.h"
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Keyframe.h"
@@ -26,27 +21,14 @@ namespace {
 
 constexpr int kQueueSize =
     10000;  // ROS subscriber queues (ours: max_queue_length)
-constexpr double kPublishPeriod = 0.2;  // s between path/marker refreshes
 
-// The information of one metre or radian of motion (odometry/information).
-template <class Pose>
-typename rrr::Constraint<Pose>::Information PerUnitInformation(
-    const NodeOptions& options) {
-  typename rrr::Constraint<Pose>::Information information;
-  information.setZero();
-  for (int k = 0; k < Pose::kDof; ++k) {
-    information(k, k) = options.odometry_information[k];
-  }
-  return information;
-}
-
-template <class Pose>
-std::unique_ptr<rrr::OnlineVerifier<Pose>> MakeVerifier(
-    const rrr::RrrOptions& options) {
-  if (options.procedure == rrr::Procedure::kMap) {
-    return std::make_unique<rrr::MapVerifier<Pose>>(options);
-  }
-  return std::make_unique<rrr::IncrementalVerifier<Pose>>(options);
+rrr::RobotSessionOptions SessionOptionsOf(const NodeOptions& options) {
+  rrr::RobotSessionOptions session;
+  session.rrr = options.rrr;
+  session.odometry = options.odometry;
+  session.database = options.database;
+  session.checkpoint_keyframes = options.checkpoint_keyframes;
+  return session;
 }
 
 }  // namespace
@@ -59,15 +41,11 @@ VerifierNode<Pose>::VerifierNode(ros::NodeHandle& nh,
       nh_(nh),
       private_nh_(private_nh),
       worker_(options.max_queue_length),
-      verifier_(MakeVerifier<Pose>(options.rrr)),
-      odometry_noise_(PerUnitInformation<Pose>(options),
-                      options.odometry_min_motion),
-      keyframes_(options.keyframe_translation, options.keyframe_rotation,
-                 std::llround(options.stamp_tolerance * 1e9)),
-      stamped_waiting_(options.rrr.max_waiting) {
+      session_(SessionOptionsOf(options),
+               [this](const rrr::SkippedMessage& s) { Skip(s); }) {
   status_.counts.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
-  SetVerifierState(*verifier_, &status_.counts);
+  SetVerifierState(session_.verifier(), &status_.counts);
   keyframe_pub_ = private_nh_.advertise<rrr_slam::Keyframe>("keyframes", 1000);
   // A subscriber that joins gets the state at once if the latched message of
   // its topic is out of date (after ~finish no update would send it).
@@ -118,62 +96,40 @@ void VerifierNode<Pose>::Stop() {
 
 template <class Pose>
 void VerifierNode<Pose>::Resume() {
+  rrr::ResumeSummary summary;
   try {
-    store_ = std::make_unique<rrr::SessionStore<Pose>>(
-        options_.database, rrr::ToString(options_.rrr.procedure),
-        options_.checkpoint_keyframes);
-    const rrr::ResumeSummary summary = store_->Resume(
-        verifier_.get(),
-        [this](rrr::PoseId, const rrr::KeyframeRecord<Pose>& keyframe) {
-          keyframes_.Append(keyframe);
-        },
-        [this](const rrr::StampedWaiting<Pose>& waiting) {
-          const auto seq = static_cast<uint32_t>(waiting.message);
-          if (!stamped_waiting_.Hold(waiting.from_ns, waiting.to_ns,
-                                     {seq, waiting.key, waiting.measurement,
-                                      waiting.information})) {
-            store_->RecordStampedResolved(waiting.key);
-            Skip(seq, rrr::CandidateDefect::kWaitingFull,
-                 "the session holds more candidates waiting by stamp than "
-                 "max_waiting");
-          }
-        });
-    if (summary.checkpoint_of_other_options) {
-      ROS_WARN(
-          "rrr_node: the checkpoint in %s was saved under other options; "
-          "every recorded update was run again",
-          options_.database.c_str());
-    }
-    if (summary.differing_decisions > 0) {
-      ROS_WARN(
-          "rrr_node: %d decisions differ from the ones %s recorded "
-          "(were the options changed?)",
-          summary.differing_decisions, options_.database.c_str());
-    }
-    status_.counts.database = options_.database;
-    status_.counts.resumed_keyframes = summary.keyframes;
-    status_.counts.resumed_candidates = summary.candidates;
-    status_.counts.resumed_waiting_by_stamp = summary.waiting_by_stamp;
-    status_.counts.resumed_from_update =
-        static_cast<uint64_t>(summary.checkpoint_update);
-    status_.counts.waiting_by_stamp =
-        static_cast<uint32_t>(stamped_waiting_.size());
-    status_.counts.updates = summary.updates;
-    if (summary.keyframes > 0) {
-      resumed_ = true;
-      resumed_until_.fromNSec(keyframes_.stamps().newest());
-      MapChanged();
-    }
-    ROS_INFO(
-        "rrr_node: session %s: resumed %d keyframes, %d candidates (and %d "
-        "waiting by stamp), %d updates (from the checkpoint after update "
-        "%lld; 0: none)",
-        options_.database.c_str(), summary.keyframes, summary.candidates,
-        summary.waiting_by_stamp, summary.updates,
-        static_cast<long long>(summary.checkpoint_update));
+    summary = session_.Resume();
   } catch (const rrr::SessionError& e) {
     throw std::invalid_argument(std::string("database: ") + e.what());
   }
+  if (summary.checkpoint_of_other_options) {
+    ROS_WARN(
+        "rrr_node: the checkpoint in %s was saved under other options; "
+        "every recorded update was run again",
+        options_.database.c_str());
+  }
+  if (summary.differing_decisions > 0) {
+    ROS_WARN(
+        "rrr_node: %d decisions differ from the ones %s recorded "
+        "(were the options changed?)",
+        summary.differing_decisions, options_.database.c_str());
+  }
+  status_.counts.database = options_.database;
+  status_.counts.resumed_keyframes = summary.keyframes;
+  status_.counts.resumed_candidates = summary.candidates;
+  status_.counts.resumed_waiting_by_stamp = summary.waiting_by_stamp;
+  status_.counts.resumed_from_update =
+      static_cast<uint64_t>(summary.checkpoint_update);
+  status_.counts.waiting_by_stamp =
+      static_cast<uint32_t>(session_.waiting_by_stamp());
+  status_.counts.updates = summary.updates;
+  ROS_INFO(
+      "rrr_node: session %s: resumed %d keyframes, %d candidates (and %d "
+      "waiting by stamp), %d updates (from the checkpoint after update "
+      "%lld; 0: none)",
+      options_.database.c_str(), summary.keyframes, summary.candidates,
+      summary.waiting_by_stamp, summary.updates,
+      static_cast<long long>(summary.checkpoint_update));
 }
 
 // ---- ROS threads ----------------------------------------------------------
@@ -195,7 +151,8 @@ template <class Pose>
 bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
                                      rrr_slam::SaveGraph::Response& res) {
   worker_.RunOnWorker([&] {
-    const auto& g = verifier_->graph();
+    const rrr::OnlineVerifier<Pose>& verifier = session_.verifier();
+    const auto& g = verifier.graph();
     if (g.num_poses() == 0) {
       res.success = false;
       res.message = "no keyframes yet";
@@ -204,16 +161,15 @@ bool VerifierNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
     SaveGraphFile(
         req.path,
         [&](std::ostream& out) {
-          const std::vector<int> loops = req.with_candidates
-                                             ? rrr::AllLoops(g)
-                                             : verifier_->AcceptedLoops();
-          rrr::WriteG2o(g, FreshMap(), loops, out);
+          const std::vector<int> loops =
+              req.with_candidates ? rrr::AllLoops(g) : verifier.AcceptedLoops();
+          rrr::WriteG2o(g, session_.Map(), loops, out);
           if (!req.with_candidates) return;
-          for (int c = 0; c < verifier_->num_candidates(); ++c) {
-            const auto [a, b] = verifier_->ends_of(c);
+          for (int c = 0; c < verifier.num_candidates(); ++c) {
+            const auto [a, b] = verifier.ends_of(c);
             out << "# DECISION " << a << ' ' << b << ' '
-                << rrr::ToString(verifier_->state(c))
-                << (verifier_->loop_of(c) < 0 ? " waiting" : "") << '\n';
+                << rrr::ToString(verifier.state(c))
+                << (verifier.loop_of(c) < 0 ? " waiting" : "") << '\n';
           }
         },
         &res);
@@ -239,10 +195,10 @@ template <class Pose>
 bool VerifierNode<Pose>::OnGetDecisions(rrr_slam::GetDecisions::Request&,
                                         rrr_slam::GetDecisions::Response& res) {
   worker_.RunOnWorker([&] {
-    std::vector<int> every(verifier_->num_candidates());
-    for (int c = 0; c < verifier_->num_candidates(); ++c) every[c] = c;
-    res.decisions =
-        DecisionsMsg(*verifier_, every, {}, true, options_.map_frame);
+    const rrr::OnlineVerifier<Pose>& verifier = session_.verifier();
+    std::vector<int> every(verifier.num_candidates());
+    for (int c = 0; c < verifier.num_candidates(); ++c) every[c] = c;
+    res.decisions = DecisionsMsg(verifier, every, {}, true, options_.map_frame);
   });
   return true;
 }
@@ -252,9 +208,9 @@ bool VerifierNode<Pose>::OnGetAcceptedGraph(
     rrr_slam::GetAcceptedGraph::Request&,
     rrr_slam::GetAcceptedGraph::Response& res) {
   worker_.RunOnWorker([&] {
-    res.graph =
-        AcceptedGraphMsg(verifier_->graph(), FreshMap(),
-                         verifier_->AcceptedLoops(), options_.map_frame);
+    res.graph = AcceptedGraphMsg(session_.verifier().graph(), session_.Map(),
+                                 session_.verifier().AcceptedLoops(),
+                                 options_.map_frame);
   });
   return true;
 }
@@ -288,37 +244,28 @@ void VerifierNode<Pose>::Run() {
 template <class Pose>
 void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<rrr::DecisionChange> changes =
-      finish ? verifier_->Finish() : verifier_->Update();
-  if (store_) {
-    try {
-      store_->CommitUpdate(finish, changes, verifier_.get());
-    } catch (const rrr::SessionError& e) {
-      {
-        std::lock_guard<std::mutex> lock(status_.mutex);
-        ++status_.counts.database_errors;
-      }
-      ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
-                         e.what());
+  const typename rrr::RobotSession<Pose>::Updated updated =
+      session_.Update(finish);
+  const std::vector<rrr::DecisionChange>& changes = updated.changes;
+  if (!updated.store_error.empty()) {
+    {
+      std::lock_guard<std::mutex> lock(status_.mutex);
+      ++status_.counts.database_errors;
     }
+    ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
+                       updated.store_error.c_str());
   }
-  bool accepted_changed = false;
-  for (const rrr::DecisionChange& change : changes) {
-    accepted_changed = accepted_changed ||
-                       change.previous == rrr::LoopState::kAccepted ||
-                       change.current == rrr::LoopState::kAccepted;
-  }
-  if (accepted_changed || finish) MapChanged();
-  graph_stale_ = graph_stale_ || accepted_changed || finish;
+  graph_stale_ = graph_stale_ || updated.accepted_changed || finish;
   const bool display_changed =
-      accepted_changed || !changes.empty() || new_keyframes_;
+      updated.accepted_changed || !changes.empty() || new_keyframes_;
   path_stale_ = path_stale_ || display_changed;
   markers_stale_ = markers_stale_ || display_changed;
   new_keyframes_ = false;
-  const std::vector<int> carried = decision_delta_.Next(*verifier_, changes);
+  const rrr::OnlineVerifier<Pose>& verifier = session_.verifier();
+  const std::vector<int> carried = decision_delta_.Next(verifier, changes);
   if (!carried.empty() || finish) {
     decision_pub_.publish(
-        DecisionsMsg(*verifier_, carried, changes, false, options_.map_frame));
+        DecisionsMsg(verifier, carried, changes, false, options_.map_frame));
   }
   PublishDue(finish ? kAllOutputs : 0u);
   const double seconds =
@@ -326,8 +273,8 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
           .count();
 
   std::lock_guard<std::mutex> lock(status_.mutex);
-  if (!keyframes_.empty()) {
-    const Pose correction = keyframes_.MapToOdom();
+  if (!session_.keyframes().empty()) {
+    const Pose correction = session_.MapToOdom();
     map_to_odom_.header.frame_id = options_.map_frame;
     map_to_odom_.child_frame_id = options_.odom_frame;
     map_to_odom_.transform = ToRosTransform(correction);
@@ -336,33 +283,15 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
     t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
     tf_broadcaster_.sendTransform(t);
   }
-  SetVerifierState(*verifier_, &status_.counts);
+  SetVerifierState(verifier, &status_.counts);
   status_.counts.waiting_by_stamp =
-      static_cast<uint32_t>(stamped_waiting_.size());
+      static_cast<uint32_t>(session_.waiting_by_stamp());
   status_.counts.waiting += status_.counts.waiting_by_stamp;
   ++status_.counts.updates;
   status_.counts.inputs_processed += taken_since_update_;
   taken_since_update_ = 0;
   status_.timings.AddUpdate(seconds);
   status_.AddCandidateLatencies();
-}
-
-template <class Pose>
-void VerifierNode<Pose>::MapChanged() {
-  const int poses = verifier_->graph().num_poses();
-  if (poses == 0) return;
-  const std::vector<Pose> ends = verifier_->MapAt({0, poses - 1});
-  keyframes_.SetNewest(ends[0], ends[1]);
-  map_stale_ = true;
-}
-
-template <class Pose>
-const std::vector<Pose>& VerifierNode<Pose>::FreshMap() {
-  if (map_stale_) {
-    keyframes_.SetMap(verifier_->Map());
-    map_stale_ = false;
-  }
-  return keyframes_.map();
 }
 
 template <class Pose>
@@ -380,19 +309,20 @@ void VerifierNode<Pose>::PublishDue(unsigned now) {
   };
   if (due(path_pub_, kPath, &path_stale_, &last_path_,
           options_.display_period)) {
-    path_pub_.publish(
-        PathMsg(FreshMap(), keyframes_.stamps().stamps(), options_.map_frame));
+    path_pub_.publish(PathMsg(session_.Map(),
+                              session_.keyframes().stamps().stamps(),
+                              options_.map_frame));
   }
   if (due(marker_pub_, kMarkers, &markers_stale_, &last_markers_,
           options_.display_period)) {
     marker_pub_.publish(
-        GraphMarkers(*verifier_, FreshMap(), options_.map_frame));
+        GraphMarkers(session_.verifier(), session_.Map(), options_.map_frame));
   }
   if (due(graph_pub_, kGraph, &graph_stale_, &last_graph_,
           options_.graph_period)) {
-    graph_pub_.publish(AcceptedGraphMsg(verifier_->graph(), FreshMap(),
-                                        verifier_->AcceptedLoops(),
-                                        options_.map_frame));
+    graph_pub_.publish(AcceptedGraphMsg(
+        session_.verifier().graph(), session_.Map(),
+        session_.verifier().AcceptedLoops(), options_.map_frame));
   }
 }
 

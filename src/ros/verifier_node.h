@@ -14,12 +14,8 @@
 #include "node_options.h"
 #include "node_status.h"
 #include "node_worker.h"
-#include "rrr/graph/keyframe_track.h"
-#include "rrr/graph/odometry_noise.h"
-#include "rrr/graph/stamped_candidates.h"
 #include "rrr/rrr/decision_delta.h"
-#include "rrr/rrr/online_verifier.h"
-#include "rrr/session/session_store.h"
+#include "rrr/session/robot_session.h"
 #include "rrr_slam/Finish.h"
 #include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/GetDecisions.h"
@@ -28,12 +24,13 @@
 
 namespace rrr_ros {
 
-// The adapter between ROS and an rrr::OnlineVerifier (the map procedure's
-// MapVerifier or the published IncrementalVerifier). Callbacks only queue
-// their input; one worker (the thread that calls Run()) owns the verifier and
-// its solver, takes the queue in batches (so it catches up when inputs come
-// faster than it judges), and publishes. Services that need the verifier are
-// queued as well, so they see every input received before them.
+// The adapter between ROS and an rrr::RobotSession (the keyframes, the
+// decision procedure and the session database of one robot). Callbacks only
+// queue their input; one worker (the thread that calls Run()) owns the
+// session, takes the queue in batches (so it catches up when inputs come
+// faster than it judges), converts the messages for it, and publishes.
+// Services that need the session are queued as well, so they see every input
+// received before them.
 template <class Pose>
 class VerifierNode {
  public:
@@ -71,20 +68,11 @@ class VerifierNode {
   // Worker (taking in the inputs: verifier_node_inputs.cc).
   void Process(const nav_msgs::Odometry::ConstPtr& msg);
   void Process(const rrr_slam::LoopClosure::ConstPtr& msg);
-  // Adds the candidate of message `seq` between keyframes `from` and `to`.
-  void AddLoopCandidate(uint32_t seq, rrr::PoseId from, rrr::PoseId to,
-                        const Pose& z, const Information& information);
-  void ResolveStampedLoops();
   // Runs the decision procedure (or, with `finish`, judges everything) and
   // publishes what changed: ~decisions at once, the larger messages while
   // subscribed, at most every display_period / graph_period s (at once at
   // `finish`).
   void UpdateAndPublish(bool finish);
-  // After the accepted loops changed: corrects the newest keyframe (and so
-  // map -> odom) now, the whole map when it is next needed (FreshMap).
-  void MapChanged();
-  // The keyframes' corrected poses, recomputed first if the map changed.
-  const std::vector<Pose>& FreshMap();
   // The latched outputs kept up to date for their subscribers, as bits.
   enum Output : unsigned {
     kPath = 1u,     // ~path
@@ -95,13 +83,14 @@ class VerifierNode {
   // Publishes the outputs that are out of date and subscribed, if their
   // period has passed or they are among the bits of `now`.
   void PublishDue(unsigned now);
-  // Rebuilds the verifier and the keyframes from the session database.
+  // Takes up the session database (RobotSession::Resume) and reports it.
   void Resume();
   // How warnings name the inputs: "<kind> message <seq>".
   static constexpr const char* kOdometry = "odometry";
   static constexpr const char* kLoopClosure = "loop closure";
-  // Counts a degenerate loop candidate under its reason and warns (throttled).
-  void Skip(uint32_t seq, rrr::CandidateDefect defect, const std::string& why);
+  // Counts a loop candidate the session skipped under its reason and warns
+  // (throttled).
+  void Skip(const rrr::SkippedMessage& skipped);
 
   const NodeOptions options_;
   ros::NodeHandle nh_, private_nh_;
@@ -116,22 +105,7 @@ class VerifierNode {
   NodeStatus status_;  // ~get_status and /diagnostics
 
   // Worker state (touched only by the worker).
-  std::unique_ptr<rrr::OnlineVerifier<Pose>> verifier_;  // of the procedure
-  std::unique_ptr<rrr::SessionStore<Pose>> store_;       // if a database
-  ros::Time resumed_until_;  // stamp of the last resumed keyframe
-  bool resumed_ = false;
-  const rrr::OdometryNoiseModel<Pose> odometry_noise_;
-  rrr::KeyframeTrack<Pose> keyframes_;  // and their corrected poses
-  bool map_stale_ = false;  // keyframes_'s map is behind the verifier's
-  // A candidate named by stamp, converted, waiting for keyframes; `key`:
-  // its key in the session database, if there is one.
-  struct StampedLoop {
-    uint32_t seq;
-    std::int64_t key;
-    Pose z;
-    Information information;
-  };
-  rrr::StampedCandidates<StampedLoop> stamped_waiting_;
+  rrr::RobotSession<Pose> session_;
   bool new_keyframes_ = false;
   uint64_t taken_since_update_ = 0;    // inputs taken in since the last update
   rrr::DecisionDelta decision_delta_;  // what ~decisions carries next

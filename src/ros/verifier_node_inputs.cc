@@ -1,7 +1,6 @@
-// rrr_node's worker taking in its inputs: odometry messages become
-// keyframes, loop-closure messages candidates (by keyframe id, or held until
-// keyframes near their stamps exist); what cannot be used is counted and
-// warned about.
+// rrr_node's worker taking in its inputs: odometry messages become the
+// session's readings, loop-closure messages its candidates (by keyframe id or
+// by stamp); what cannot be used is counted and warned about.
 #include <mutex>
 #include <string>
 
@@ -32,49 +31,31 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
   Pose pose;
   if (!FromRos(msg->pose.pose, &pose, &why))
     return status_.CountInvalid(kOdometry, msg->header.seq, why);
-  const rrr::OdometryCovariance covariance = FromRos(msg->pose.covariance);
-  if (resumed_ && msg->header.stamp <= resumed_until_) {
+  const auto taken = session_.AddReading(
+      {static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose,
+       FromRos(msg->pose.covariance)});
+  if (taken.already_recorded) {
     std::lock_guard<std::mutex> lock(status_.mutex);
     ++status_.counts.inputs_already_recorded;
     return;
   }
-  const rrr::KeyframeRecord<Pose> reading{
-      static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose, covariance};
-  const auto judged = keyframes_.Judge(reading);
-  if (!judged.problem.empty()) {
-    return status_.CountInvalid(kOdometry, msg->header.seq, judged.problem);
+  if (!taken.problem.empty()) {
+    return status_.CountInvalid(kOdometry, msg->header.seq, taken.problem);
   }
-  if (!judged.keyframe) return;
-  if (keyframes_.empty()) {
-    verifier_->AddFirstPose(0, pose);
-    if (store_) store_->RecordFirstKeyframe(0, reading);
-  } else {
-    using Source = typename rrr::OdometryNoiseModel<Pose>::Source;
-    Source source;
-    const rrr::KeyframeRecord<Pose> newest = keyframes_.newest();
-    const Information information = odometry_noise_.EdgeInformation(
-        newest.odometry_pose, newest.covariance, pose, covariance,
-        options_.use_odometry_covariance, &source);
-    {
-      std::lock_guard<std::mutex> lock(status_.mutex);
-      ++(source == Source::kCovarianceChange
-             ? status_.counts.odometry_information_from_covariance
-             : status_.counts.odometry_information_from_motion);
-    }
-    const rrr::PoseId id = verifier_->AddOdometry(judged.motion, information);
-    if (store_) {
-      store_->RecordKeyframe(id, reading, judged.motion, information);
-    }
+  if (!taken.keyframe) return;
+  if (taken.id > 0) {
+    std::lock_guard<std::mutex> lock(status_.mutex);
+    ++(taken.information_from_covariance
+           ? status_.counts.odometry_information_from_covariance
+           : status_.counts.odometry_information_from_motion);
   }
-  keyframes_.Append(reading);
   new_keyframes_ = true;
   rrr_slam::Keyframe keyframe;
   keyframe.header.stamp = msg->header.stamp;
   keyframe.header.frame_id = options_.odom_frame;
-  keyframe.id = verifier_->graph().ids().back();
+  keyframe.id = taken.id;
   keyframe.pose = msg->pose.pose;
   keyframe_pub_.publish(keyframe);
-  ResolveStampedLoops();
 }
 
 template <class Pose>
@@ -97,71 +78,27 @@ void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
     return status_.CountInvalid(kLoopClosure, seq, why);
   }
   if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
-    return AddLoopCandidate(seq, msg->from_id, msg->to_id, z, information);
-  }
-  if (stamped_waiting_.full()) {
-    return Skip(seq, rrr::CandidateDefect::kWaitingFull,
-                std::to_string(stamped_waiting_.size()) +
-                    " candidates wait for keyframes by stamp already");
-  }
-  const std::int64_t from_ns = msg->from_stamp.toNSec();
-  const std::int64_t to_ns = msg->to_stamp.toNSec();
-  const std::int64_t key =
-      store_ ? store_->RecordStampedWaiting(seq, from_ns, to_ns, z, information)
-             : 0;
-  stamped_waiting_.Hold(from_ns, to_ns, {seq, key, z, information});
-  ResolveStampedLoops();
-}
-
-template <class Pose>
-void VerifierNode<Pose>::ResolveStampedLoops() {
-  stamped_waiting_.Resolve(
-      keyframes_.stamps(),
-      [this](int from, int to, const StampedLoop& loop) {
-        if (store_) store_->RecordStampedResolved(loop.key);
-        AddLoopCandidate(loop.seq, verifier_->graph().ids()[from],
-                         verifier_->graph().ids()[to], loop.z,
-                         loop.information);
-      },
-      [this](const char* end, const StampedLoop& loop) {
-        if (store_) store_->RecordStampedResolved(loop.key);
-        Skip(loop.seq, rrr::CandidateDefect::kUnknownPose,
-             "no keyframe within " + std::to_string(options_.stamp_tolerance) +
-                 " s of its " + end + " stamp");
-      });
-}
-
-template <class Pose>
-void VerifierNode<Pose>::AddLoopCandidate(uint32_t seq, rrr::PoseId from,
-                                          rrr::PoseId to, const Pose& z,
-                                          const Information& information) {
-  if (from < 0 || to < 0) {
-    return Skip(seq, rrr::CandidateDefect::kUnknownPose,
-                "keyframe ids start at 0");
-  }
-  try {
-    const int number = verifier_->AddLoop(from, to, z, information);
-    if (store_) store_->RecordCandidate(number, from, to, z, information);
-  } catch (const rrr::DegenerateCandidate& e) {
-    Skip(seq, e.defect(), e.what());
+    session_.AddCandidate(seq, msg->from_id, msg->to_id, z, information);
+  } else {
+    session_.AddCandidateByStamp(seq, msg->from_stamp.toNSec(),
+                                 msg->to_stamp.toNSec(), z, information);
   }
 }
 
 template <class Pose>
-void VerifierNode<Pose>::Skip(uint32_t seq, rrr::CandidateDefect defect,
-                              const std::string& why) {
+void VerifierNode<Pose>::Skip(const rrr::SkippedMessage& skipped) {
   uint64_t count;
   {
     std::lock_guard<std::mutex> lock(status_.mutex);
-    CountCandidateDefect(defect, &status_.counts);
+    CountCandidateDefect(skipped.defect, &status_.counts);
     count = CandidateDefects(status_.counts);
   }
   ROS_WARN_THROTTLE(
       5.0,
-      "rrr_node: skipped loop closure message %u (%s): %s (%lu skipped "
+      "rrr_node: skipped loop closure message %lld (%s): %s (%lu skipped "
       "candidates so far)",
-      seq, rrr::ToString(defect), why.c_str(),
-      static_cast<unsigned long>(count));
+      static_cast<long long>(skipped.message), rrr::ToString(skipped.defect),
+      skipped.why.c_str(), static_cast<unsigned long>(count));
 }
 
 // The class is instantiated in verifier_node.cc; these members here.
@@ -169,23 +106,11 @@ template void VerifierNode<rrr::Pose2>::Process(
     const nav_msgs::Odometry::ConstPtr&);
 template void VerifierNode<rrr::Pose2>::Process(
     const rrr_slam::LoopClosure::ConstPtr&);
-template void VerifierNode<rrr::Pose2>::ResolveStampedLoops();
-template void VerifierNode<rrr::Pose2>::AddLoopCandidate(uint32_t, rrr::PoseId,
-                                                         rrr::PoseId,
-                                                         const rrr::Pose2&,
-                                                         const Information&);
-template void VerifierNode<rrr::Pose2>::Skip(uint32_t, rrr::CandidateDefect,
-                                             const std::string&);
+template void VerifierNode<rrr::Pose2>::Skip(const rrr::SkippedMessage&);
 template void VerifierNode<rrr::Pose3>::Process(
     const nav_msgs::Odometry::ConstPtr&);
 template void VerifierNode<rrr::Pose3>::Process(
     const rrr_slam::LoopClosure::ConstPtr&);
-template void VerifierNode<rrr::Pose3>::ResolveStampedLoops();
-template void VerifierNode<rrr::Pose3>::AddLoopCandidate(uint32_t, rrr::PoseId,
-                                                         rrr::PoseId,
-                                                         const rrr::Pose3&,
-                                                         const Information&);
-template void VerifierNode<rrr::Pose3>::Skip(uint32_t, rrr::CandidateDefect,
-                                             const std::string&);
+template void VerifierNode<rrr::Pose3>::Skip(const rrr::SkippedMessage&);
 
 }  // namespace rrr_ros

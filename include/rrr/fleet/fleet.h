@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rrr/graph/keyframe_track.h"
+#include "rrr/graph/odometry_input.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/graph/stamped_candidates.h"
 #include "rrr/rrr/chains/chains_verifier.h"
@@ -20,25 +21,13 @@ namespace rrr {
 // How a fleet turns readings into keyframes and sessions.
 struct FleetOptions {
   RrrOptions rrr;
-  // A reading makes a keyframe when it moved more than these from the
-  // newest (both 0: every reading does); see KeyframeTrack.
-  double keyframe_translation = 0.0;
-  double keyframe_rotation = 0.0;
+  // How each robot's readings become keyframes and odometry edges.
+  OdometryInputOptions odometry;
   // A reading that moved more than this many metres from the robot's last
   // reading (not keyframe) is no motion a robot makes between two readings:
   // its odometry restarted (at zero, typically) and it starts a new
   // session. 0 turns the test off.
   double restart_jump = 1.0;
-  // An odometry edge's information (OdometryNoiseModel): from the change
-  // of the readings' covariances if `use_odometry_covariance`, else from
-  // `odometry_information` (the diagonal, one value per degree of freedom
-  // of the pose: of one metre or radian of motion; empty: 100 each) times
-  // the motion, at least `odometry_min_motion`.
-  bool use_odometry_covariance = true;
-  std::vector<double> odometry_information;
-  double odometry_min_motion = 0.05;
-  // A candidate's stamp names a robot's keyframe at most this far from it.
-  std::int64_t stamp_tolerance_ns = 100'000'000;
   // Rules 1–3 between chains on a thread of their own (ChainsVerifier).
   bool judge_between_in_background = false;
 };
@@ -75,8 +64,8 @@ class Fleet {
   };
 
   // Throws std::invalid_argument for no robot, a name repeated or empty, or
-  // options that do not validate (a negative restart_jump, an
-  // odometry_information of another size or not positive).
+  // options that do not validate (a negative restart_jump, odometry
+  // options NoiseModelOf or TrackOf refuses).
   Fleet(std::vector<std::string> robots, const FleetOptions& options);
 
   // Index of robot `name`, or -1.

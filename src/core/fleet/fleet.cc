@@ -11,37 +11,11 @@
 #include "rrr/graph/chain_spans.h"
 
 namespace rrr {
-namespace {
-
-// The information of one unit of motion: `diagonal` (100 each if empty).
-template <class Pose>
-typename Constraint<Pose>::Information PerUnit(
-    const std::vector<double>& diagonal) {
-  using Information = typename Constraint<Pose>::Information;
-  if (diagonal.empty()) return Information::Identity() * 100.0;
-  if (diagonal.size() != static_cast<size_t>(Pose::kDof)) {
-    throw std::invalid_argument("odometry_information needs " +
-                                std::to_string(Pose::kDof) + " values, got " +
-                                std::to_string(diagonal.size()));
-  }
-  Information information = Information::Zero();
-  for (int k = 0; k < Pose::kDof; ++k) {
-    if (!(diagonal[k] > 0.0)) {
-      throw std::invalid_argument("odometry_information must be positive");
-    }
-    information(k, k) = diagonal[k];
-  }
-  return information;
-}
-
-}  // namespace
-
 template <class Pose>
 Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
     : robots_(std::move(robots)),
       options_(options),
-      noise_(PerUnit<Pose>(options.odometry_information),
-             options.odometry_min_motion),
+      noise_(NoiseModelOf<Pose>(options.odometry)),
       verifier_(options.rrr, options.judge_between_in_background),
       sessions_(robots_.size()),
       next_id_(robots_.size(), 0),
@@ -61,9 +35,7 @@ Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
   if (options.restart_jump < 0.0) {
     throw std::invalid_argument("restart_jump must not be negative");
   }
-  if (options.stamp_tolerance_ns < 0) {
-    throw std::invalid_argument("stamp_tolerance_ns must not be negative");
-  }
+  TrackOf<Pose>(options.odometry);  // throws for thresholds it refuses
 }
 
 template <class Pose>
@@ -115,13 +87,10 @@ typename Fleet<Pose>::Taken Fleet<Pose>::AddKeyframe(
   last_reading_[robot] = keyframe;
   if (new_session) {
     taken.chain = verifier_.AddChain(taken.id, keyframe.odometry_pose);
-    sessions_by_chain_.push_back(
-        {taken.chain,
-         taken.id,
-         KeyframeTrack<Pose>(options_.keyframe_translation,
-                             options_.keyframe_rotation,
-                             options_.stamp_tolerance_ns),
-         {keyframe.odometry_pose}});
+    sessions_by_chain_.push_back({taken.chain,
+                                  taken.id,
+                                  TrackOf<Pose>(options_.odometry),
+                                  {keyframe.odometry_pose}});
     sessions_by_chain_.back().track.Append(keyframe);
     robot_of_chain_.push_back(robot);
     sessions_[robot].push_back(taken.chain);
@@ -135,7 +104,7 @@ typename Fleet<Pose>::Taken Fleet<Pose>::AddKeyframe(
   const Pose motion = newest.odometry_pose.between(keyframe.odometry_pose);
   const Information information = noise_.EdgeInformation(
       newest.odometry_pose, newest.covariance, keyframe.odometry_pose,
-      keyframe.covariance, options_.use_odometry_covariance);
+      keyframe.covariance, options_.odometry.use_odometry_covariance);
   verifier_.AddOdometry(session.chain, motion, information);
   session.track.Append(keyframe);
   session.map.push_back(session.map.back() * motion);
@@ -179,8 +148,8 @@ int Fleet<Pose>::AddLoopByStamp(int robot_a, std::int64_t stamp_a, int robot_b,
     throw DegenerateCandidate(
         CandidateDefect::kUnknownPose,
         "robot '" + robots_[robot] + "' has no keyframe within " +
-            std::to_string(options_.stamp_tolerance_ns * 1e-9) + " s of the " +
-            (a < 0 ? "from" : "to") + " stamp");
+            std::to_string(options_.odometry.stamp_tolerance_ns * 1e-9) +
+            " s of the " + (a < 0 ? "from" : "to") + " stamp");
   }
   return AddLoop(robot_a, a, robot_b, b, z, information);
 }

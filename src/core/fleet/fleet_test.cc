@@ -199,7 +199,7 @@ TEST(Fleet, RobotsAreNamedOnceAndCandidatesWaitForTheirRobots) {
 
 TEST(Fleet, CandidatesByStampNameTheNearestKeyframeOnceItIsThere) {
   FleetOptions options = Options();
-  options.stamp_tolerance_ns = 5'000'000;  // readings come 20 ms apart
+  options.odometry.stamp_tolerance_ns = 5'000'000;  // readings come 20 ms apart
   Fleet<Pose2> fleet({"a", "b"}, options);
   const SimulatedWorld world = SimulateWorld(Grid(100, 3));
   const auto a = Readings(world.graph, 0, 29, 1'000'000'000);
