@@ -56,6 +56,7 @@ set(RRR_CORE_SOURCES
   src/core/session/session_store.cc
   src/core/session/robot_session.cc
   src/core/session/fleet_store.cc
+  src/core/session/fleet_session.cc
   src/core/session/session_tables.cc
   src/core/session/compressed_blob.cc
   src/core/session/session_contents.cc

@@ -58,7 +58,7 @@ FleetNode<Pose>::FleetNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
       nh_(nh),
       private_nh_(private_nh),
       worker_(options.max_queue_length),
-      fleet_(options.robots, FleetOptionsOf(options)) {
+      session_(options.robots, FleetOptionsOf(options), options.database) {
   status_.counts.procedure = rrr::ToString(options_.rrr.procedure);
   if (!options_.database.empty()) Resume();
   const int robots = static_cast<int>(options_.robots.size());
@@ -129,32 +129,30 @@ void FleetNode<Pose>::Stop() {
 
 template <class Pose>
 void FleetNode<Pose>::Resume() {
+  rrr::FleetResumeSummary summary;
   try {
-    store_ = std::make_unique<rrr::FleetStore<Pose>>(
-        options_.database, options_.robots,
-        rrr::ToString(options_.rrr.procedure));
-    const rrr::FleetResumeSummary summary = store_->Resume(&fleet_);
-    if (summary.differing_decisions > 0) {
-      ROS_WARN(
-          "rrr_node: %d decisions differ from the ones %s recorded (were the "
-          "options changed, or loops between robots judged at another "
-          "update?)",
-          summary.differing_decisions, options_.database.c_str());
-    }
-    status_.counts.database = options_.database;
-    status_.counts.resumed_keyframes = summary.keyframes;
-    status_.counts.resumed_candidates = summary.candidates;
-    status_.counts.updates = summary.updates;
-    CountState();
-    changed_ = summary.keyframes > 0;
-    ROS_INFO(
-        "rrr_node: fleet session %s: resumed %d keyframes in %d sessions, %d "
-        "candidates, %d updates; each robot continues in a new session",
-        options_.database.c_str(), summary.keyframes, summary.sessions,
-        summary.candidates, summary.updates);
+    summary = session_.Resume();
   } catch (const rrr::SessionError& e) {
     throw std::invalid_argument(std::string("database: ") + e.what());
   }
+  if (summary.differing_decisions > 0) {
+    ROS_WARN(
+        "rrr_node: %d decisions differ from the ones %s recorded (were the "
+        "options changed, or loops between robots judged at another "
+        "update?)",
+        summary.differing_decisions, options_.database.c_str());
+  }
+  status_.counts.database = options_.database;
+  status_.counts.resumed_keyframes = summary.keyframes;
+  status_.counts.resumed_candidates = summary.candidates;
+  status_.counts.updates = summary.updates;
+  CountState();
+  changed_ = summary.keyframes > 0;
+  ROS_INFO(
+      "rrr_node: fleet session %s: resumed %d keyframes in %d sessions, %d "
+      "candidates, %d updates; each robot continues in a new session",
+      options_.database.c_str(), summary.keyframes, summary.sessions,
+      summary.candidates, summary.updates);
 }
 
 template <class Pose>
@@ -165,9 +163,10 @@ std::string FleetNode<Pose>::RobotFrame(int robot,
 
 template <class Pose>
 std::string FleetNode<Pose>::MapFrame(int map) const {
-  if (map == fleet_.verifier().map_of_chain(0)) return options_.map_frame;
-  const int robot = fleet_.robot_of_chain(map);
-  const std::vector<int>& sessions = fleet_.sessions(robot);
+  if (map == session_.fleet().verifier().map_of_chain(0))
+    return options_.map_frame;
+  const int robot = session_.fleet().robot_of_chain(map);
+  const std::vector<int>& sessions = session_.fleet().sessions(robot);
   const auto k =
       std::find(sessions.begin(), sessions.end(), map) - sessions.begin();
   return RobotFrame(robot, k == 0 ? "map" : "map_" + std::to_string(k));
@@ -180,11 +179,12 @@ bool FleetNode<Pose>::OnFinish(rrr_slam::Finish::Request&,
                                rrr_slam::Finish::Response& res) {
   worker_.RunOnWorker([&] {
     UpdateAndPublish(true);
-    const auto& v = fleet_.verifier();
+    const auto& v = session_.fleet().verifier();
     res.accepted = v.num_in_state(rrr::LoopState::kAccepted);
     res.rejected = v.num_in_state(rrr::LoopState::kRejected);
     res.pending = v.num_in_state(rrr::LoopState::kPending);
-    res.waiting = static_cast<uint32_t>(fleet_.num_waiting_for_robots());
+    res.waiting =
+        static_cast<uint32_t>(session_.fleet().num_waiting_for_robots());
   });
   return true;
 }
@@ -193,7 +193,7 @@ template <class Pose>
 bool FleetNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
                                   rrr_slam::SaveGraph::Response& res) {
   worker_.RunOnWorker([&] {
-    const auto& v = fleet_.verifier();
+    const auto& v = session_.fleet().verifier();
     std::vector<int> candidate_of_loop;
     const rrr::PoseGraph<Pose> graph = v.Graph(&candidate_of_loop);
     if (graph.num_poses() == 0) {
@@ -214,8 +214,8 @@ bool FleetNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
           rrr::WriteG2o(graph, graph.estimates(), loops, out);
           if (!req.with_candidates) return;
           const auto name = [&](const rrr::ChainPose& p) {
-            return options_.robots[fleet_.robot_of_chain(p.chain)] + ":" +
-                   std::to_string(p.id);
+            return options_.robots[session_.fleet().robot_of_chain(p.chain)] +
+                   ":" + std::to_string(p.id);
           };
           for (const int k : loops) {
             const int c = candidate_of_loop[k];
@@ -240,7 +240,7 @@ template <class Pose>
 bool FleetNode<Pose>::OnGetDecisions(rrr_slam::GetDecisions::Request&,
                                      rrr_slam::GetDecisions::Response& res) {
   worker_.RunOnWorker([&] {
-    std::vector<int> every(fleet_.verifier().num_candidates());
+    std::vector<int> every(session_.fleet().verifier().num_candidates());
     for (size_t c = 0; c < every.size(); ++c) every[c] = static_cast<int>(c);
     res.decisions = DecisionsMsg(every, {}, true);
   });
@@ -251,7 +251,7 @@ template <class Pose>
 rrr_slam::Decisions FleetNode<Pose>::DecisionsMsg(
     const std::vector<int>& carried,
     const std::vector<rrr::DecisionChange>& changes, bool full) const {
-  const auto& v = fleet_.verifier();
+  const auto& v = session_.fleet().verifier();
   rrr_slam::Decisions msg;
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = options_.map_frame;
@@ -261,8 +261,10 @@ rrr_slam::Decisions FleetNode<Pose>::DecisionsMsg(
   for (const int c : carried) {
     rrr_slam::LoopDecision d;
     d.candidate = c;
-    d.from_robot = options_.robots[fleet_.robot_of_chain(v.from(c).chain)];
-    d.to_robot = options_.robots[fleet_.robot_of_chain(v.to(c).chain)];
+    d.from_robot =
+        options_.robots[session_.fleet().robot_of_chain(v.from(c).chain)];
+    d.to_robot =
+        options_.robots[session_.fleet().robot_of_chain(v.to(c).chain)];
     d.from_id = v.from(c).id;
     d.to_id = v.to(c).id;
     d.state = StateMsg(v.state(c));
@@ -311,23 +313,13 @@ void FleetNode<Pose>::Run() {
 template <class Pose>
 void FleetNode<Pose>::UpdateAndPublish(bool finish) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<rrr::DecisionChange> changes =
-      finish ? fleet_.Finish() : fleet_.Update();
-  if (store_) {
-    try {
-      store_->CommitUpdate(finish, changes);
-    } catch (const rrr::SessionError& e) {
-      {
-        std::lock_guard<std::mutex> lock(status_.mutex);
-        ++status_.counts.database_errors;
-      }
-      ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
-                         e.what());
-    }
-  }
+  const typename rrr::FleetSession<Pose>::Updated updated =
+      session_.Update(finish);
+  const std::vector<rrr::DecisionChange>& changes = updated.changes;
+  status_.CountDatabaseError(updated.store_error);
   changed_ = changed_ || !changes.empty() || finish;
   // ~decisions: the candidates new since the last message, or changed.
-  const int candidates = fleet_.verifier().num_candidates();
+  const int candidates = session_.fleet().verifier().num_candidates();
   std::vector<int> carried;
   carried.reserve(changes.size() + candidates - candidates_published_);
   for (const auto& c : changes) carried.push_back(c.candidate);
@@ -346,26 +338,28 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
     using visualization_msgs::Marker;
     visualization_msgs::MarkerArray markers;
     for (int r = 0; r < static_cast<int>(options_.robots.size()); ++r) {
-      const int map = fleet_.MapOfRobot(r);
+      const int map = session_.fleet().MapOfRobot(r);
       if (map < 0) continue;
       const std::string frame = MapFrame(map);
-      path_pubs_[r].publish(
-          PathMsg(fleet_.Path(r, map), fleet_.PathStamps(r, map), frame));
+      path_pubs_[r].publish(PathMsg(session_.fleet().Path(r, map),
+                                    session_.fleet().PathStamps(r, map),
+                                    frame));
       Marker path = MakeMarker(frame, options_.robots[r], Marker::LINE_STRIP,
                                0.0f, 0.0f, 0.0f, 0.05);
       path.color = RobotColour(r);
-      for (const Pose& p : fleet_.Path(r, map)) {
+      for (const Pose& p : session_.fleet().Path(r, map)) {
         path.points.push_back(ToRos(p).position);
       }
       markers.markers.push_back(path);
     }
     // Loops whose two ends are in one map, by state.
-    const auto& v = fleet_.verifier();
+    const auto& v = session_.fleet().verifier();
     std::map<std::pair<int, rrr::LoopState>, Marker> loops;
     for (int c = 0; c < v.num_candidates(); ++c) {
       const rrr::ChainPose a = v.from(c), b = v.to(c);
       const int map = v.map_of_chain(a.chain);
-      const auto pa = fleet_.Corrected(a), pb = fleet_.Corrected(b);
+      const auto pa = session_.fleet().Corrected(a),
+                 pb = session_.fleet().Corrected(b);
       if (map != v.map_of_chain(b.chain) || !pa || !pb) continue;
       auto [it, added] = loops.try_emplace({map, v.state(c)});
       if (added) {
@@ -391,10 +385,10 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
 
   std::lock_guard<std::mutex> lock(status_.mutex);
   for (int r = 0; r < static_cast<int>(options_.robots.size()); ++r) {
-    const std::optional<Pose> correction = fleet_.MapToOdom(r);
+    const std::optional<Pose> correction = session_.fleet().MapToOdom(r);
     if (!correction) continue;
     geometry_msgs::TransformStamped& t = map_to_odom_[r];
-    t.header.frame_id = MapFrame(fleet_.MapOfRobot(r));
+    t.header.frame_id = MapFrame(session_.fleet().MapOfRobot(r));
     t.child_frame_id = RobotFrame(r, options_.odom_frame);
     t.transform = ToRosTransform(*correction);
     t.header.stamp = ros::Time::now() + ros::Duration(options_.tf_period);
@@ -410,9 +404,9 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
 
 template <class Pose>
 rrr_slam::AcceptedGraph FleetNode<Pose>::AcceptedGraph() const {
-  const auto& v = fleet_.verifier();
-  const rrr::FleetGraph<Pose> accepted =
-      fleet_.AcceptedGraph(v.num_chains() > 0 ? v.map_of_chain(0) : -1);
+  const auto& v = session_.fleet().verifier();
+  const rrr::FleetGraph<Pose> accepted = session_.fleet().AcceptedGraph(
+      v.num_chains() > 0 ? v.map_of_chain(0) : -1);
   std::vector<int> loops(accepted.graph.loops().size());
   std::iota(loops.begin(), loops.end(), 0);
   rrr_slam::AcceptedGraph msg = AcceptedGraphMsg(
@@ -426,7 +420,7 @@ rrr_slam::AcceptedGraph FleetNode<Pose>::AcceptedGraph() const {
 
 template <class Pose>
 void FleetNode<Pose>::CountState() {
-  const auto& v = fleet_.verifier();
+  const auto& v = session_.fleet().verifier();
   status_.counts.candidates = static_cast<uint32_t>(v.num_candidates());
   status_.counts.accepted =
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kAccepted));
@@ -435,13 +429,13 @@ void FleetNode<Pose>::CountState() {
   status_.counts.pending =
       static_cast<uint32_t>(v.num_in_state(rrr::LoopState::kPending));
   status_.counts.waiting =
-      static_cast<uint32_t>(fleet_.num_waiting_for_robots());
+      static_cast<uint32_t>(session_.fleet().num_waiting_for_robots());
   status_.counts.waiting_by_stamp =
-      static_cast<uint32_t>(fleet_.num_waiting_by_stamp());
+      static_cast<uint32_t>(session_.fleet().num_waiting_by_stamp());
   // Candidates by stamp refused once their keyframes came: none near.
   status_.counts.skipped_unknown_poses += static_cast<uint64_t>(
-      fleet_.refused_by_stamp() - refused_by_stamp_counted_);
-  refused_by_stamp_counted_ = fleet_.refused_by_stamp();
+      session_.fleet().refused_by_stamp() - refused_by_stamp_counted_);
+  refused_by_stamp_counted_ = session_.fleet().refused_by_stamp();
   status_.counts.keyframes = 0;
   for (int c = 0; c < v.num_chains(); ++c) {
     status_.counts.keyframes +=

@@ -16,8 +16,7 @@
 #include "node_options.h"
 #include "node_status.h"
 #include "node_worker.h"
-#include "rrr/fleet/fleet.h"
-#include "rrr/session/fleet_store.h"
+#include "rrr/session/fleet_session.h"
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
 #include "rrr_slam/Finish.h"
@@ -29,7 +28,8 @@
 
 namespace rrr_ros {
 
-// The adapter between ROS and an rrr::Fleet (README, "A fleet of robots").
+// The adapter between ROS and an rrr::FleetSession (a fleet and its session
+// database; README, "A fleet of robots").
 // Robot r's odometry comes on `<r>/odom`; candidates on
 // `fleet_loop_closures` name robot and keyframe (by id or stamp) at both
 // ends (those on `loop_closures`, as a single robot's front-end sends them,
@@ -79,8 +79,8 @@ class FleetNode {
                           rrr_slam::GetAcceptedGraph::Response& res);
   void OnTfTimer(const ros::TimerEvent& event);
 
-  // Opens the session database and replays it into the fleet; throws
-  // std::invalid_argument naming the database if it cannot.
+  // Takes up the session database (FleetSession::Resume) and reports it;
+  // throws std::invalid_argument naming the database if it cannot.
   void Resume();
   // Worker.
   void Process(const RobotOdometry& odometry);
@@ -119,8 +119,7 @@ class FleetNode {
   NodeStatus status_;  // ~get_status and /diagnostics
 
   // Worker state.
-  rrr::Fleet<Pose> fleet_;
-  std::unique_ptr<rrr::FleetStore<Pose>> store_;  // with `database` set
+  rrr::FleetSession<Pose> session_;
   bool changed_ = false;  // keyframes or decisions since the last publishing
   ros::WallTime last_published_, last_graph_published_;
   uint64_t taken_since_update_ = 0;

@@ -32,17 +32,17 @@ void FleetNode<Pose>::Process(const RobotOdometry& odometry) {
   const rrr::KeyframeRecord<Pose> reading{
       static_cast<std::int64_t>(msg.header.stamp.toNSec()), pose,
       FromRos(msg.pose.covariance)};
-  const auto taken = fleet_.AddReading(r, reading);
+  const auto taken = session_.AddReading(r, reading);
   if (!taken.problem.empty()) {
     return status_.CountInvalid(what, msg.header.seq, taken.problem);
   }
-  if (taken.new_session && fleet_.sessions(r).size() > 1) {
+  if (taken.new_session && session_.fleet().sessions(r).size() > 1) {
     ROS_INFO("rrr_node: robot %s restarted: session %zu from keyframe %lld",
-             options_.robots[r].c_str(), fleet_.sessions(r).size() - 1,
+             options_.robots[r].c_str(),
+             session_.fleet().sessions(r).size() - 1,
              static_cast<long long>(taken.id));
   }
   if (!taken.keyframe) return;
-  if (store_) store_->RecordKeyframe(r, reading, taken);
   changed_ = true;
   rrr_slam::Keyframe keyframe;
   keyframe.header.stamp = msg.header.stamp;
@@ -55,8 +55,8 @@ void FleetNode<Pose>::Process(const RobotOdometry& odometry) {
 template <class Pose>
 void FleetNode<Pose>::Process(const rrr_slam::FleetLoopClosure::ConstPtr& msg) {
   const uint32_t seq = msg->loop.header.seq;
-  const int from = fleet_.RobotIndex(msg->from_robot);
-  const int to = fleet_.RobotIndex(msg->to_robot);
+  const int from = session_.fleet().RobotIndex(msg->from_robot);
+  const int to = session_.fleet().RobotIndex(msg->to_robot);
   for (const auto& [index, name] :
        {std::pair(from, &msg->from_robot), {to, &msg->to_robot}}) {
     if (index < 0) {
@@ -87,21 +87,11 @@ void FleetNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
   }
   try {
     if (loop.reference == rrr_slam::LoopClosure::BY_ID) {
-      const int number =
-          fleet_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
-      if (store_) {
-        store_->RecordCandidate(number, from, loop.from_id, to, loop.to_id, z,
-                                information);
-      }
+      session_.AddLoop(from, loop.from_id, to, loop.to_id, z, information);
     } else {
       const auto from_ns = static_cast<std::int64_t>(loop.from_stamp.toNSec());
       const auto to_ns = static_cast<std::int64_t>(loop.to_stamp.toNSec());
-      const int number =
-          fleet_.AddLoopByStamp(from, from_ns, to, to_ns, z, information);
-      if (store_) {
-        store_->RecordCandidateByStamp(number, from, from_ns, to, to_ns, z,
-                                       information);
-      }
+      session_.AddLoopByStamp(from, from_ns, to, to_ns, z, information);
     }
     changed_ = true;
   } catch (const rrr::DegenerateCandidate& e) {

@@ -68,6 +68,16 @@ void NodeStatus::CountInvalid(const std::string& kind, uint32_t seq,
       kind.c_str(), seq, why.c_str(), static_cast<unsigned long>(count));
 }
 
+void NodeStatus::CountDatabaseError(const std::string& why) {
+  if (why.empty()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++counts.database_errors;
+  }
+  ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
+                     why.c_str());
+}
+
 bool NodeStatus::OnGetStatus(rrr_slam::GetStatus::Request&,
                              rrr_slam::GetStatus::Response& res) {
   res = Snapshot();

@@ -37,6 +37,9 @@ class NodeStatus {
   // message `seq`, with `why`.
   void CountInvalid(const std::string& kind, uint32_t seq,
                     const std::string& why);
+  // Counts an update the session database could not record (`why`: the
+  // store's error; "" counts nothing) and logs it (throttled).
+  void CountDatabaseError(const std::string& why);
   // The worker notes when each loop candidate it takes in arrived; the
   // update that publishes its state then adds its latency (under `mutex`)
   // with AddCandidateLatencies().

@@ -247,14 +247,7 @@ void VerifierNode<Pose>::UpdateAndPublish(bool finish) {
   const typename rrr::RobotSession<Pose>::Updated updated =
       session_.Update(finish);
   const std::vector<rrr::DecisionChange>& changes = updated.changes;
-  if (!updated.store_error.empty()) {
-    {
-      std::lock_guard<std::mutex> lock(status_.mutex);
-      ++status_.counts.database_errors;
-    }
-    ROS_ERROR_THROTTLE(5.0, "rrr_node: cannot record the update: %s",
-                       updated.store_error.c_str());
-  }
+  status_.CountDatabaseError(updated.store_error);
   graph_stale_ = graph_stale_ || updated.accepted_changed || finish;
   const bool display_changed =
       updated.accepted_changed || !changes.empty() || new_keyframes_;

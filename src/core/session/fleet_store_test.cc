@@ -1,3 +1,4 @@
+// A fleet's session database, as a FleetSession records and takes it up.
 #include "rrr/session/fleet_store.h"
 
 #include <gmock/gmock.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +16,7 @@
 #include "../testing/chain_worlds.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/session/fleet_session.h"
 #include "sqlite_db.h"
 
 namespace rrr {
@@ -52,16 +55,14 @@ class FleetStoreTest : public ::testing::Test {
 
   // Rounds [begin, end): each robot's reading of the round, then the loops
   // whose later end came in it (both ends fed, by the keyframe ids the
-  // fleet gave them); an update after every tenth round, committed to
-  // `store` (if given) with what it recorded.
-  void Drive(int begin, int end, Fleet<Pose2>* fleet,
-             FleetStore<Pose2>* store) {
+  // fleet gave them); an update after every tenth round (recorded if the
+  // session has a database).
+  void Drive(int begin, int end, FleetSession<Pose2>* session) {
     for (int k = begin; k < end; ++k) {
       for (int r = 0; r < 2; ++r) {
-        const auto taken = fleet->AddReading(r, readings_[r][k]);
+        const auto taken = session->AddReading(r, readings_[r][k]);
         ASSERT_TRUE(taken.keyframe);
         id_[r][k] = taken.id;
-        if (store) store->RecordKeyframe(r, readings_[r][k], taken);
       }
       for (const auto& e : graph_.loops()) {
         const int ra = e.from < 400 ? 0 : 1, rb = e.to < 400 ? 0 : 1;
@@ -69,18 +70,24 @@ class FleetStoreTest : public ::testing::Test {
         if (std::max(ka, kb) != k || id_[ra][ka] < 0 || id_[rb][kb] < 0) {
           continue;
         }
-        const int number = fleet->AddLoop(ra, id_[ra][ka], rb, id_[rb][kb],
-                                          e.measurement, e.information);
-        if (store) {
-          store->RecordCandidate(number, ra, id_[ra][ka], rb, id_[rb][kb],
-                                 e.measurement, e.information);
-        }
+        session->AddLoop(ra, id_[ra][ka], rb, id_[rb][kb], e.measurement,
+                         e.information);
       }
       if (k % 10 == 9) {
-        const auto changes = fleet->Update();
-        if (store) store->CommitUpdate(false, changes);
+        ASSERT_EQ(session->Update(false).store_error, "");
       }
     }
+  }
+
+  // A fleet of `robots` recorded in the test's database, taken up.
+  std::unique_ptr<FleetSession<Pose2>> Open(
+      const std::vector<std::string>& robots,
+      FleetResumeSummary* summary = nullptr) {
+    auto session =
+        std::make_unique<FleetSession<Pose2>>(robots, Options(), path_);
+    const FleetResumeSummary resumed = session->Resume();
+    if (summary) *summary = resumed;
+    return session;
   }
 
   static std::vector<LoopState> States(const Fleet<Pose2>& fleet) {
@@ -105,20 +112,18 @@ TEST_F(FleetStoreTest, AResumeAfterACrashHasEveryCommittedInputAndDecision) {
   std::vector<LoopState> at_last_commit;
   int keyframes = 0;
   {
-    Fleet<Pose2> fleet({"a", "b"}, Options());
-    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
-    Drive(0, 250, &fleet, &store);
-    at_last_commit = States(fleet);
-    keyframes = fleet.verifier().Graph().num_poses();
-    Drive(250, 255, &fleet, &store);  // then the process dies
-    EXPECT_GT(store.num_uncommitted(), 0);
+    const auto session = Open({"a", "b"});
+    Drive(0, 250, session.get());
+    at_last_commit = States(session->fleet());
+    keyframes = session->fleet().verifier().Graph().num_poses();
+    Drive(250, 255, session.get());  // then the process dies
   }
   ASSERT_EQ(keyframes, 500);
   ASSERT_GT(at_last_commit.size(), 10u);
 
-  Fleet<Pose2> fleet({"a", "b"}, Options());
-  FleetStore<Pose2> store(path_, {"a", "b"}, "map");
-  const FleetResumeSummary summary = store.Resume(&fleet);
+  FleetResumeSummary summary;
+  const auto session = Open({"a", "b"}, &summary);
+  const Fleet<Pose2>& fleet = session->fleet();
   EXPECT_EQ(summary.keyframes, 500);
   EXPECT_EQ(summary.sessions, 2);
   EXPECT_EQ(summary.updates, 25);
@@ -131,7 +136,7 @@ TEST_F(FleetStoreTest, AResumeAfterACrashHasEveryCommittedInputAndDecision) {
   // keyframes count on.
   for (int r = 0; r < 2; ++r) {
     std::fill(id_[r].begin() + 250, id_[r].begin() + 255, -1);
-    const auto taken = fleet.AddReading(r, readings_[r][255]);
+    const auto taken = session->AddReading(r, readings_[r][255]);
     EXPECT_TRUE(taken.new_session);
     EXPECT_EQ(taken.id, 250);
     id_[r][255] = taken.id;
@@ -145,8 +150,8 @@ TEST_F(FleetStoreTest, AResumeAfterACrashHasEveryCommittedInputAndDecision) {
     fed += std::max(ka, kb) >= 256 &&
            (std::min(ka, kb) < 250 || std::min(ka, kb) > 254);
   }
-  Drive(256, 400, &fleet, nullptr);
-  fleet.Finish();
+  Drive(256, 400, session.get());
+  session->Update(true);
   EXPECT_EQ(fleet.verifier().num_candidates(), before + fed);
   EXPECT_EQ(fleet.sessions(0).size(), 2u);
   EXPECT_EQ(fleet.sessions(1).size(), 2u);
@@ -157,21 +162,19 @@ TEST_F(FleetStoreTest, AResumeAfterACrashHasEveryCommittedInputAndDecision) {
 TEST_F(FleetStoreTest, AResumeOfAFinishedRunDecidesAsTheRun) {
   std::vector<LoopState> finished;
   {
-    Fleet<Pose2> fleet({"a", "b"}, Options());
-    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
-    Drive(0, 400, &fleet, &store);
+    const auto session = Open({"a", "b"});
+    Drive(0, 400, session.get());
     // One candidate more, by the stamps of its keyframes (a's 390 and b's
     // 395, as a loop of the world would be measured).
     const Pose2 z = graph_.estimates()[390].between(graph_.estimates()[795]);
     const Eigen::Matrix3d information = graph_.loops()[0].information;
-    const int next = fleet.verifier().num_candidates();
-    EXPECT_EQ(fleet.AddLoopByStamp(0, readings_[0][390].stamp_ns, 1,
-                                   readings_[1][395].stamp_ns, z, information),
-              next);
-    store.RecordCandidateByStamp(next, 0, readings_[0][390].stamp_ns, 1,
-                                 readings_[1][395].stamp_ns, z, information);
-    store.CommitUpdate(true, fleet.Finish());
-    finished = States(fleet);
+    const int next = session->fleet().verifier().num_candidates();
+    EXPECT_EQ(
+        session->AddLoopByStamp(0, readings_[0][390].stamp_ns, 1,
+                                readings_[1][395].stamp_ns, z, information),
+        next);
+    EXPECT_EQ(session->Update(true).store_error, "");
+    finished = States(session->fleet());
   }
   size_t accepted = 0, refused = 0;
   for (const LoopState s : finished) {
@@ -182,9 +185,9 @@ TEST_F(FleetStoreTest, AResumeOfAFinishedRunDecidesAsTheRun) {
   ASSERT_GT(refused, 10u) << "the false loops";
 
   // The robots in another order, and one more: they are matched by name.
-  Fleet<Pose2> fleet({"c", "b", "a"}, Options());
-  FleetStore<Pose2> store(path_, {"c", "b", "a"}, "map");
-  const FleetResumeSummary summary = store.Resume(&fleet);
+  FleetResumeSummary summary;
+  const auto session = Open({"c", "b", "a"}, &summary);
+  const Fleet<Pose2>& fleet = session->fleet();
   EXPECT_EQ(summary.differing_decisions, 0);
   EXPECT_EQ(States(fleet), finished);
   EXPECT_EQ(fleet.sessions(2).size(), 1u);
@@ -194,14 +197,11 @@ TEST_F(FleetStoreTest, AResumeOfAFinishedRunDecidesAsTheRun) {
 
 TEST_F(FleetStoreTest, AResumeWithoutARecordedRobotSaysWhich) {
   {
-    Fleet<Pose2> fleet({"a", "b"}, Options());
-    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
-    Drive(0, 20, &fleet, &store);
+    const auto session = Open({"a", "b"});
+    Drive(0, 20, session.get());
   }
-  Fleet<Pose2> fleet({"a"}, Options());
-  FleetStore<Pose2> store(path_, {"a"}, "map");
   try {
-    store.Resume(&fleet);
+    Open({"a"});
     FAIL() << "resumed without robot b";
   } catch (const SessionError& e) {
     EXPECT_THAT(e.what(), HasSubstr(path_));
@@ -211,9 +211,8 @@ TEST_F(FleetStoreTest, AResumeWithoutARecordedRobotSaysWhich) {
 
 TEST_F(FleetStoreTest, ARecordThatDoesNotReplayAsRecordedIsRefusedNamingIt) {
   {
-    Fleet<Pose2> fleet({"a", "b"}, Options());
-    FleetStore<Pose2> store(path_, {"a", "b"}, "map");
-    Drive(0, 100, &fleet, &store);
+    const auto session = Open({"a", "b"});
+    Drive(0, 100, session.get());
   }
   {  // a keyframe taken out of robot b's record
     SqliteDb db(path_, false);
@@ -221,10 +220,8 @@ TEST_F(FleetStoreTest, ARecordThatDoesNotReplayAsRecordedIsRefusedNamingIt) {
         "DELETE FROM inputs WHERE seq = (SELECT min(seq) FROM inputs WHERE "
         "kind = 1 AND robot = 1 AND number = 50)");
   }
-  Fleet<Pose2> fleet({"a", "b"}, Options());
-  FleetStore<Pose2> store(path_, {"a", "b"}, "map");
   try {
-    store.Resume(&fleet);
+    Open({"a", "b"});
     FAIL() << "resumed";
   } catch (const SessionError& e) {
     EXPECT_THAT(e.what(), HasSubstr(path_));
