@@ -75,6 +75,8 @@ TEST(SimulatedRobot, EveryCandidateIsJudgedAsInABatchRun) {
   EXPECT_EQ(status.skipped_unknown_poses, 0u);  // every stamp resolved
   EXPECT_EQ(status.odometry_information_from_covariance,
             static_cast<uint64_t>(w.graph.num_poses() - 1));
+  // Driving back past where it started is no restart of its odometry.
+  EXPECT_EQ(status.odometry_restarts_joined, 0u);
 }
 
 }  // namespace

@@ -43,7 +43,10 @@ struct NodeOptions {
   // `<robot>/<base_frame>`. Empty: one robot (VerifierNode).
   std::vector<std::string> robots;
   // A fleet's robot whose odometry jumps more than this many metres between
-  // two messages restarted: it continues in a new session (0: never).
+  // two messages restarted: it continues in a new session (0: never). One
+  // robot's odometry back at its origin this far from the keyframe before
+  // restarted too: it is warned about and counted (one chain cannot hold a
+  // session; rrr::RobotSessionOptions::restart_jump).
   double restart_jump = 1.0;
 
   // Reads the private parameters of `nh`; throws std::invalid_argument naming

@@ -28,6 +28,7 @@ rrr::RobotSessionOptions SessionOptionsOf(const NodeOptions& options) {
   session.odometry = options.odometry;
   session.database = options.database;
   session.checkpoint_keyframes = options.checkpoint_keyframes;
+  session.restart_jump = options.restart_jump;
   return session;
 }
 

@@ -48,6 +48,17 @@ void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
     ++(taken.information_from_covariance
            ? status_.counts.odometry_information_from_covariance
            : status_.counts.odometry_information_from_motion);
+    status_.counts.odometry_restarts_joined += taken.restarted ? 1 : 0;
+  }
+  if (taken.restarted) {
+    ROS_WARN(
+        "rrr_node: odometry message %u is back at the origin of '%s' %.1f m "
+        "from keyframe %lld: the odometry restarted, and keyframe %lld is "
+        "joined to it by that jump, an odometry edge that did not happen. A "
+        "robot whose odometry may restart belongs in a fleet of one "
+        "(robots:=[<name>]), where a restart starts a new session",
+        msg->header.seq, options_.odom_frame.c_str(), taken.jump,
+        static_cast<long long>(taken.id - 1), static_cast<long long>(taken.id));
   }
   new_keyframes_ = true;
   rrr_slam::Keyframe keyframe;

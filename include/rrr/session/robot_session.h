@@ -28,6 +28,13 @@ struct RobotSessionOptions {
   // Keyframes between two checkpoints of the verifier's state in the
   // database (SessionStore; 0: none).
   int checkpoint_keyframes = kDefaultCheckpointKeyframes;
+  // A keyframe back at its odometry frame's origin while the newest one was
+  // more than this many metres from it: the odometry restarted at zero (a
+  // driver started again), and the keyframe is joined to the one before by
+  // that jump, an odometry edge that never happened (Taken::restarted;
+  // one chain has no other way; a fleet of one robot starts a session).
+  // 0: not looked for.
+  double restart_jump = 1.0;
 };
 
 // A loop candidate message that a RobotSession could not take, and why.
@@ -76,6 +83,10 @@ class RobotSession {
     // For a keyframe after the first: its odometry edge's information came
     // from the readings' covariance change (else from the motion).
     bool information_from_covariance = false;
+    // The keyframe is the first after the odometry restarted at zero
+    // (RobotSessionOptions::restart_jump): its edge is `jump` long.
+    bool restarted = false;
+    double jump = 0.0;  // m
   };
   // Takes the robot's next odometry reading. A new keyframe is added to the
   // verifier (and recorded), and the candidates waiting by stamp that it

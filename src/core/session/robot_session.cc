@@ -11,6 +11,16 @@
 namespace rrr {
 namespace {
 
+// A driver started again reports its first pose at zero, or, by its first
+// message, within this of it (m, and rad).
+constexpr double kNearOrigin = 0.01;
+
+template <class Pose>
+bool NearOrigin(const Pose& pose) {
+  return pose.translation().norm() <= kNearOrigin &&
+         pose.angle() <= kNearOrigin;
+}
+
 template <class Pose>
 std::unique_ptr<OnlineVerifier<Pose>> MakeVerifier(const RrrOptions& options) {
   if (options.procedure == Procedure::kMap) {
@@ -86,6 +96,10 @@ typename RobotSession<Pose>::Taken RobotSession<Pose>::AddReading(
         newest.odometry_pose, newest.covariance, reading.odometry_pose,
         reading.covariance, options_.odometry.use_odometry_covariance, &source);
     taken.information_from_covariance = source == Source::kCovarianceChange;
+    taken.restarted =
+        options_.restart_jump > 0.0 && NearOrigin(reading.odometry_pose) &&
+        newest.odometry_pose.translation().norm() > options_.restart_jump;
+    if (taken.restarted) taken.jump = judged.motion.translation().norm();
     const PoseId id = verifier_->AddOdometry(judged.motion, information);
     if (store_) store_->RecordKeyframe(id, reading, judged.motion, information);
   }

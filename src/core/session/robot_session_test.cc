@@ -139,6 +139,44 @@ TEST_F(RobotSessionTest, RefusesAReadingStampedBeforeTheNewestKeyframe) {
   EXPECT_EQ(session.keyframes().size(), 3);
 }
 
+TEST_F(RobotSessionTest, AnOdometryRestartedAtZeroIsToldAndJoinedByItsJump) {
+  RobotSession<Pose2> session(Options(), on_skip_);
+  Drive(&session, 0, 50);
+  const Pose2 before = readings_[49].odometry_pose;
+  ASSERT_GT(before.translation().norm(), 2.0);
+  // The driver starts again: its next message is at zero, then it moves on.
+  KeyframeRecord<Pose2> restarted{readings_[49].stamp_ns + kSecond, Pose2(),
+                                  OdometryCovariance::Zero()};
+  const auto taken = session.AddReading(restarted);
+  EXPECT_TRUE(taken.keyframe);
+  EXPECT_TRUE(taken.restarted);
+  EXPECT_NEAR(taken.jump, before.translation().norm(), 1e-9);
+  restarted.stamp_ns += kSecond;
+  restarted.odometry_pose = readings_[1].odometry_pose;
+  EXPECT_FALSE(session.AddReading(restarted).restarted);
+  EXPECT_EQ(session.verifier().graph().num_poses(), 52);
+
+  // Near the origin, and back there: no jump, no restart; nor with the test
+  // off.
+  for (const double restart_jump : {1.0, 0.0}) {
+    RobotSessionOptions options = Options();
+    options.restart_jump = restart_jump;
+    RobotSession<Pose2> near(options, on_skip_);
+    KeyframeRecord<Pose2> reading{kSecond, Pose2(), OdometryCovariance::Zero()};
+    for (const Pose2& pose : {Pose2(), Pose2(0.5, 0.0, 0.0), Pose2()}) {
+      reading.odometry_pose = pose;
+      reading.stamp_ns += kSecond;
+      EXPECT_FALSE(near.AddReading(reading).restarted);
+    }
+    reading.odometry_pose = before;
+    reading.stamp_ns += kSecond;
+    near.AddReading(reading);
+    reading.odometry_pose = Pose2();
+    reading.stamp_ns += kSecond;
+    EXPECT_EQ(near.AddReading(reading).restarted, restart_jump > 0.0);
+  }
+}
+
 TEST_F(RobotSessionTest, SkipsACandidateItCannotJudgeWithItsReason) {
   RobotSession<Pose2> session(Options(), on_skip_);
   Drive(&session, 0, 5);
