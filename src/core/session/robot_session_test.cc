@@ -4,6 +4,7 @@
 #include "rrr/session/robot_session.h"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -260,6 +261,41 @@ TEST_F(RobotSessionTest, OpenedAgainOnItsDatabaseItDecidesAsWithoutAStop) {
     EXPECT_EQ(a.state(c), b.state(c)) << "candidate " << c;
   }
   EXPECT_TRUE(skipped_.empty());
+}
+
+TEST_F(RobotSessionTest, AnUpdateItsDatabaseCannotRecordLosesNoInput) {
+  const std::string database = (dir_ / "session.db").string();
+  std::vector<LoopState> states;
+  {
+    RobotSession<Pose2> session(Options(database), on_skip_);
+    session.Resume();
+    Drive(&session, 0, 100);
+    // Another process holds the database's write lock: the next update
+    // cannot be recorded (after SQLite's busy timeout), and the session says
+    // so and goes on.
+    sqlite3* other = nullptr;
+    ASSERT_EQ(sqlite3_open(database.c_str(), &other), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(other, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    ASSERT_TRUE(session.AddReading(readings_[100]).keyframe);
+    const auto blocked = session.Update(false);
+    EXPECT_NE(blocked.store_error.find(database), std::string::npos)
+        << blocked.store_error;
+    sqlite3_exec(other, "ROLLBACK", nullptr, nullptr, nullptr);
+    sqlite3_close(other);
+    // The next update records what the blocked one could not.
+    Drive(&session, 101, 150);
+    for (int c = 0; c < session.verifier().num_candidates(); ++c) {
+      states.push_back(session.verifier().state(c));
+    }
+  }
+  RobotSession<Pose2> resumed(Options(database), on_skip_);
+  EXPECT_EQ(resumed.Resume().keyframes, 150);
+  ASSERT_EQ(resumed.verifier().num_candidates(),
+            static_cast<int>(states.size()));
+  for (int c = 0; c < resumed.verifier().num_candidates(); ++c) {
+    EXPECT_EQ(resumed.verifier().state(c), states[c]) << "candidate " << c;
+  }
 }
 
 TEST(RobotSession, RefusesOptionsThatDoNotValidate) {
