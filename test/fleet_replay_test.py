@@ -90,7 +90,9 @@ def test_fleet_bag_replays_as_rrr_verify_decides_the_file(tmp_path):
                       "_robots:=[a, b, c]", "_restart_jump:=5.0",
                       f"_cluster_window:={window}"], env, log)
         wait_for(lambda: service(env, "/rrr_node/get_status", timeout=60), 60, "the node")
-        player = start(ROSBAG_PLAY + ["-r", "5", str(bag)], env, log)
+        # Kept alive past the bag's end: a player that exits drops the
+        # messages still queued for the node.
+        player = start(ROSBAG_PLAY + ["--keep-alive", "-r", "5", str(bag)], env, log)
         last = {}
 
         def every_input_taken():
