@@ -129,23 +129,10 @@ void FleetNode<Pose>::Stop() {
 
 template <class Pose>
 void FleetNode<Pose>::Resume() {
-  rrr::FleetResumeSummary summary;
-  try {
-    summary = session_.Resume();
-  } catch (const rrr::SessionError& e) {
-    throw std::invalid_argument(std::string("database: ") + e.what());
-  }
-  if (summary.differing_decisions > 0) {
-    ROS_WARN(
-        "rrr_node: %d decisions differ from the ones %s recorded (were the "
-        "options changed, or loops between robots judged at another "
-        "update?)",
-        summary.differing_decisions, options_.database.c_str());
-  }
-  status_.counts.database = options_.database;
-  status_.counts.resumed_keyframes = summary.keyframes;
-  status_.counts.resumed_candidates = summary.candidates;
-  status_.counts.updates = summary.updates;
+  const rrr::FleetResumeSummary summary = status_.CountResumed(
+      options_.database, [&] { return session_.Resume(); },
+      "were the options changed, or loops between robots judged at another "
+      "update?");
   CountState();
   changed_ = summary.keyframes > 0;
   ROS_INFO(

@@ -97,33 +97,20 @@ void VerifierNode<Pose>::Stop() {
 
 template <class Pose>
 void VerifierNode<Pose>::Resume() {
-  rrr::ResumeSummary summary;
-  try {
-    summary = session_.Resume();
-  } catch (const rrr::SessionError& e) {
-    throw std::invalid_argument(std::string("database: ") + e.what());
-  }
+  const rrr::ResumeSummary summary = status_.CountResumed(
+      options_.database, [&] { return session_.Resume(); },
+      "were the options changed?");
   if (summary.checkpoint_of_other_options) {
     ROS_WARN(
         "rrr_node: the checkpoint in %s was saved under other options; "
         "every recorded update was run again",
         options_.database.c_str());
   }
-  if (summary.differing_decisions > 0) {
-    ROS_WARN(
-        "rrr_node: %d decisions differ from the ones %s recorded "
-        "(were the options changed?)",
-        summary.differing_decisions, options_.database.c_str());
-  }
-  status_.counts.database = options_.database;
-  status_.counts.resumed_keyframes = summary.keyframes;
-  status_.counts.resumed_candidates = summary.candidates;
   status_.counts.resumed_waiting_by_stamp = summary.waiting_by_stamp;
   status_.counts.resumed_from_update =
       static_cast<uint64_t>(summary.checkpoint_update);
   status_.counts.waiting_by_stamp =
       static_cast<uint32_t>(session_.waiting_by_stamp());
-  status_.counts.updates = summary.updates;
   ROS_INFO(
       "rrr_node: session %s: resumed %d keyframes, %d candidates (and %d "
       "waiting by stamp), %d updates (from the checkpoint after update "
