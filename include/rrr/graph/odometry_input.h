@@ -30,14 +30,19 @@ struct OdometryInputOptions {
   std::int64_t stamp_tolerance_ns = 100'000'000;
 };
 
-// The noise model of `options`. Throws std::invalid_argument naming the
-// option if `odometry_information` has another size than Pose::kDof or a
-// value that is not positive, or `odometry_min_motion` is not positive.
+// Throws std::invalid_argument naming the option if `options` do not suit
+// Pose: `odometry_information` of another size than Pose::kDof or with a
+// value that is not positive, `odometry_min_motion` not positive, a keyframe
+// threshold or the stamp tolerance negative.
+template <class Pose>
+void Validate(const OdometryInputOptions& options);
+
+// The noise model of `options`, once they validate (else Validate throws).
 template <class Pose>
 OdometryNoiseModel<Pose> NoiseModelOf(const OdometryInputOptions& options);
 
-// An empty keyframe track of `options`' thresholds. Throws
-// std::invalid_argument if a threshold or the stamp tolerance is negative.
+// An empty keyframe track of `options`' thresholds, once they validate
+// (else Validate throws).
 template <class Pose>
 KeyframeTrack<Pose> TrackOf(const OdometryInputOptions& options);
 

@@ -35,7 +35,6 @@ Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
   if (options.restart_jump < 0.0) {
     throw std::invalid_argument("restart_jump must not be negative");
   }
-  TrackOf<Pose>(options.odometry);  // throws for thresholds it refuses
 }
 
 template <class Pose>

@@ -178,6 +178,9 @@ TEST(Fleet, RobotsAreNamedOnceAndCandidatesWaitForTheirRobots) {
   EXPECT_THROW(Fleet<Pose2>({}, Options()), std::invalid_argument);
   EXPECT_THROW(Fleet<Pose2>({"a", "a"}, Options()), std::invalid_argument);
   EXPECT_THROW(Fleet<Pose2>({"a", ""}, Options()), std::invalid_argument);
+  FleetOptions negative_threshold = Options();
+  negative_threshold.odometry.keyframe_translation = -1.0;
+  EXPECT_THROW(Fleet<Pose2>({"a"}, negative_threshold), std::invalid_argument);
   Fleet<Pose2> fleet({"a", "b"}, Options());
   EXPECT_EQ(fleet.RobotIndex("b"), 1);
   EXPECT_EQ(fleet.RobotIndex("c"), -1);

@@ -9,39 +9,54 @@
 namespace rrr {
 
 template <class Pose>
-OdometryNoiseModel<Pose> NoiseModelOf(const OdometryInputOptions& options) {
-  using Information = typename Constraint<Pose>::Information;
+void Validate(const OdometryInputOptions& options) {
   const std::vector<double>& diagonal = options.odometry_information;
-  Information per_unit = Information::Identity() * 100.0;
-  if (!diagonal.empty()) {
-    if (diagonal.size() != static_cast<size_t>(Pose::kDof)) {
-      throw std::invalid_argument("odometry_information needs " +
-                                  std::to_string(Pose::kDof) + " values, got " +
-                                  std::to_string(diagonal.size()));
-    }
-    for (int k = 0; k < Pose::kDof; ++k) {
-      if (!(diagonal[k] > 0.0)) {
-        throw std::invalid_argument("odometry_information must be positive");
-      }
-      per_unit(k, k) = diagonal[k];
+  if (!diagonal.empty() && diagonal.size() != static_cast<size_t>(Pose::kDof)) {
+    throw std::invalid_argument("odometry_information needs " +
+                                std::to_string(Pose::kDof) + " values, got " +
+                                std::to_string(diagonal.size()));
+  }
+  for (const double d : diagonal) {
+    if (!(d > 0.0)) {
+      throw std::invalid_argument("odometry_information must be positive");
     }
   }
   if (!(options.odometry_min_motion > 0.0)) {
     throw std::invalid_argument("odometry_min_motion must be positive");
+  }
+  if (!(options.keyframe_translation >= 0.0) ||
+      !(options.keyframe_rotation >= 0.0)) {
+    throw std::invalid_argument(
+        "the keyframe thresholds must not be negative, got " +
+        std::to_string(options.keyframe_translation) + " m and " +
+        std::to_string(options.keyframe_rotation) + " rad");
+  }
+  if (options.stamp_tolerance_ns < 0) {
+    throw std::invalid_argument("stamp_tolerance_ns must not be negative");
+  }
+}
+
+template <class Pose>
+OdometryNoiseModel<Pose> NoiseModelOf(const OdometryInputOptions& options) {
+  Validate<Pose>(options);
+  typename Constraint<Pose>::Information per_unit =
+      Constraint<Pose>::Information::Identity() * 100.0;
+  for (size_t k = 0; k < options.odometry_information.size(); ++k) {
+    per_unit(k, k) = options.odometry_information[k];
   }
   return OdometryNoiseModel<Pose>(per_unit, options.odometry_min_motion);
 }
 
 template <class Pose>
 KeyframeTrack<Pose> TrackOf(const OdometryInputOptions& options) {
-  if (options.stamp_tolerance_ns < 0) {
-    throw std::invalid_argument("stamp_tolerance_ns must not be negative");
-  }
+  Validate<Pose>(options);
   return KeyframeTrack<Pose>(options.keyframe_translation,
                              options.keyframe_rotation,
                              options.stamp_tolerance_ns);
 }
 
+template void Validate<Pose2>(const OdometryInputOptions&);
+template void Validate<Pose3>(const OdometryInputOptions&);
 template OdometryNoiseModel<Pose2> NoiseModelOf(const OdometryInputOptions&);
 template OdometryNoiseModel<Pose3> NoiseModelOf(const OdometryInputOptions&);
 template KeyframeTrack<Pose2> TrackOf(const OdometryInputOptions&);
