@@ -3,17 +3,16 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "../testing/chain_worlds.h"
+#include "../testing/scratch_dir.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/session/fleet_session.h"
@@ -22,7 +21,6 @@
 namespace rrr {
 namespace {
 
-namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 // Two robots of one world with false loops, the second starting at its pose
@@ -31,12 +29,7 @@ using ::testing::HasSubstr;
 class FleetStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rrr_fleet_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    path_ = (dir_ / "fleet.db").string();
+    path_ = dir_.File("fleet.db");
     WorldOptions world = testing::Grid(800, 5);
     world.false_loops = 40;
     world.group = 4;
@@ -44,7 +37,6 @@ class FleetStoreTest : public ::testing::Test {
     readings_ = {testing::Readings(graph_, 0, 399, 0),
                  testing::Readings(graph_, 400, 799, 0)};
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   static FleetOptions Options() {
     FleetOptions options;
@@ -98,7 +90,7 @@ class FleetStoreTest : public ::testing::Test {
     return states;
   }
 
-  fs::path dir_;
+  testing::ScratchDir dir_;
   std::string path_;
   PoseGraph<Pose2> graph_;
   std::vector<std::vector<KeyframeRecord<Pose2>>> readings_;
@@ -248,7 +240,7 @@ TEST_F(FleetStoreTest, AFleetsDatabaseAndOneRobotsAreNotTakenForEachOther) {
   fails_with([&] { FleetStore<Pose2>(path_, {"a"}, "published"); },
              "recorded with the map procedure");
 
-  const std::string single = (dir_ / "robot.db").string();
+  const std::string single = dir_.File("robot.db");
   { SessionStore<Pose2> store(single, "map"); }
   EXPECT_FALSE(IsFleetDatabase(single));
   fails_with([&] { FleetStore<Pose2>(single, {"a"}, "map"); },

@@ -7,17 +7,15 @@
 #include <sqlite3.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <map>
 #include <utility>
 
+#include "../testing/scratch_dir.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/sim/simulated_world.h"
 
 namespace rrr {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr std::int64_t kSecond = 1'000'000'000;
 
@@ -27,11 +25,6 @@ constexpr std::int64_t kSecond = 1'000'000'000;
 class RobotSessionTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rrr_robot_session_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     WorldOptions world;
     world.poses = 600;
     world.false_loops = 20;
@@ -50,7 +43,6 @@ class RobotSessionTest : public ::testing::Test {
       loops_at_[std::max(l.from, l.to)].push_back(static_cast<int>(k));
     }
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   RobotSessionOptions Options(const std::string& database = "") const {
     RobotSessionOptions options;
@@ -91,7 +83,7 @@ class RobotSessionTest : public ::testing::Test {
     return accepted;
   }
 
-  fs::path dir_;
+  testing::ScratchDir dir_;
   SimulatedWorld world_;
   std::vector<KeyframeRecord<Pose2>> readings_;
   std::map<int, std::vector<int>> loops_at_;
@@ -232,7 +224,7 @@ TEST_F(RobotSessionTest, OpenedAgainOnItsDatabaseItDecidesAsWithoutAStop) {
   Drive(&straight, n / 2, n);
   straight.Update(true);
 
-  const std::string database = (dir_ / "session.db").string();
+  const std::string database = dir_.File("session.db");
   {
     RobotSession<Pose2> first(Options(database), on_skip_);
     EXPECT_EQ(first.Resume().keyframes, 0);
@@ -264,7 +256,7 @@ TEST_F(RobotSessionTest, OpenedAgainOnItsDatabaseItDecidesAsWithoutAStop) {
 }
 
 TEST_F(RobotSessionTest, AnUpdateItsDatabaseCannotRecordLosesNoInput) {
-  const std::string database = (dir_ / "session.db").string();
+  const std::string database = dir_.File("session.db");
   std::vector<LoopState> states;
   {
     RobotSession<Pose2> session(Options(database), on_skip_);

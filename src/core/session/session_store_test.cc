@@ -7,11 +7,11 @@
 #include <sqlite3.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
 #include "../testing/replay.h"
+#include "../testing/scratch_dir.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/rrr/map/map_verifier.h"
@@ -21,24 +21,16 @@
 namespace rrr {
 namespace {
 
-namespace fs = std::filesystem;
-
 class SessionStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rrr_session_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    path_ = (dir_ / "session.db").string();
+    path_ = dir_.File("session.db");
     WorldOptions options;
     options.poses = 700;
     options.false_loops = 20;
     options.group = 2;
     world_ = SimulateWorld(options);
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // Feeds the world's poses from `first` to `poses` - 1 (and the candidates
   // that have both poses by then) to `verifier` and `store` as the node
@@ -93,7 +85,7 @@ class SessionStoreTest : public ::testing::Test {
     Record(&verifier, &store, poses, 10);
   }
 
-  fs::path dir_;
+  testing::ScratchDir dir_;
   std::string path_;
   SimulatedWorld world_;
 };
@@ -153,7 +145,7 @@ TEST_F(SessionStoreTest, ACrashLosesOnlyTheUnfinishedUpdate) {
   // Recording goes on where the database ends, and resumes again.
   MapVerifier<Pose2> reference{RrrOptions()};
   {
-    SessionStore<Pose2> fresh((dir_ / "reference.db").string(), "map");
+    SessionStore<Pose2> fresh(dir_.File("reference.db"), "map");
     Record(&reference, &fresh, summary.keyframes, 10);
   }
   EXPECT_EQ(States(resumed), States(reference));
@@ -269,12 +261,12 @@ TEST_F(SessionStoreTest, RefusesWhatItCannotResume) {
   EXPECT_EQ(version.rfind(path_, 0), 0u) << version;
   EXPECT_NE(version.find("schema version 99"), std::string::npos) << version;
 
-  const std::string text = (dir_ / "graph.g2o").string();
+  const std::string text = dir_.File("graph.g2o");
   std::ofstream(text) << "VERTEX_SE2 0 0 0 0\n";
   EXPECT_NE(ErrorOf([&] { ReadSession(text); }).find(text), std::string::npos);
   EXPECT_FALSE(LooksLikeSessionDatabase(text));
   EXPECT_NE(ErrorOf([&] {
-              ReadSession((dir_ / "none.db").string());
+              ReadSession(dir_.File("none.db"));
             }).find("cannot be opened"),
             std::string::npos);
 }
@@ -411,7 +403,7 @@ TEST_F(SessionStoreTest, ResumesFromTheCheckpointAsIfEveryUpdateHadRun) {
   EXPECT_EQ(States(resumed), States(original));
   // Both go on alike to the end of the world.
   Record(&resumed, &store, world_.graph.num_poses(), 7, true, 650);
-  SessionStore<Pose2> scratch((dir_ / "scratch.db").string(), "map", 0);
+  SessionStore<Pose2> scratch(dir_.File("scratch.db"), "map", 0);
   Record(&original, &scratch, world_.graph.num_poses(), 7, true, 650);
   EXPECT_EQ(States(resumed), States(original));
   EXPECT_GT(original.AcceptedLoops().size(), 0u);
@@ -430,7 +422,7 @@ TEST_F(SessionStoreTest, ACrashedSessionResumesFromItsCheckpoint) {
   EXPECT_EQ(summary.keyframes, 390);
   MapVerifier<Pose2> reference{RrrOptions()};
   {
-    SessionStore<Pose2> fresh((dir_ / "reference.db").string(), "map", 0);
+    SessionStore<Pose2> fresh(dir_.File("reference.db"), "map", 0);
     Record(&reference, &fresh, summary.keyframes, 10);
   }
   EXPECT_EQ(States(resumed), States(reference));
@@ -452,7 +444,7 @@ TEST_F(SessionStoreTest, RunsEveryUpdateAgainWhenTheOptionsChanged) {
   EXPECT_EQ(summary.updates, 50);
   MapVerifier<Pose2> reference(other);
   {
-    SessionStore<Pose2> fresh((dir_ / "reference.db").string(), "map", 0);
+    SessionStore<Pose2> fresh(dir_.File("reference.db"), "map", 0);
     Record(&reference, &fresh, 500, 10);
   }
   EXPECT_EQ(States(resumed), States(reference));
