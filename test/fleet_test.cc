@@ -57,6 +57,7 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
   const uint64_t inputs = w.graph.num_poses() + w.graph.loops().size();
 
   ros::NodeHandle nh;
+  rrr_test::DecisionTable stream(nh);
   std::map<std::string, bool> done;
   std::vector<ros::Subscriber> subs;
   for (const std::string& robot : robots) {
@@ -82,6 +83,13 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
   rrr_slam::Finish finish;
   ASSERT_TRUE(ros::service::call("/rrr_node/finish", finish));
   EXPECT_EQ(finish.response.pending, 0u);
+  // The messages on ~decisions (each carries the candidates new, changed,
+  // clustered or no longer waiting) add up to every candidate's state, as
+  // ~get_decisions gives it whole.
+  EXPECT_TRUE(rrr_test::WaitFor(
+      [&] { return stream.AllDecided(w.graph.loops().size()); }, 10.0));
+  EXPECT_EQ(stream.gaps(), 0);
+  EXPECT_TRUE(rrr_test::SameDecisions(stream, rrr_test::Snapshot()));
   const std::string path =
       "/tmp/rrr_fleet_test_" + std::to_string(::getpid()) + ".g2o";
   rrr_slam::SaveGraph save;

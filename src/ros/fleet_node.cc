@@ -305,15 +305,10 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
   const std::vector<rrr::DecisionChange>& changes = updated.changes;
   status_.CountDatabaseError(updated.store_error);
   changed_ = changed_ || !changes.empty() || finish;
-  // ~decisions: the candidates new since the last message, or changed.
-  const int candidates = session_.fleet().verifier().num_candidates();
-  std::vector<int> carried;
-  carried.reserve(changes.size() + candidates - candidates_published_);
-  for (const auto& c : changes) carried.push_back(c.candidate);
-  for (int c = candidates_published_; c < candidates; ++c) carried.push_back(c);
-  candidates_published_ = candidates;
-  std::sort(carried.begin(), carried.end());
-  carried.erase(std::unique(carried.begin(), carried.end()), carried.end());
+  // ~decisions: the candidates new, changed, or clustered or no longer
+  // waiting since the last message.
+  const std::vector<int> carried =
+      decision_delta_.Next(session_.fleet().verifier(), changes);
   if (!carried.empty() || finish) {
     decision_pub_.publish(DecisionsMsg(carried, changes, false));
   }

@@ -16,6 +16,7 @@
 #include "node_options.h"
 #include "node_status.h"
 #include "node_worker.h"
+#include "rrr/rrr/decision_delta.h"
 #include "rrr/session/fleet_session.h"
 #include "rrr_slam/AcceptedGraph.h"
 #include "rrr_slam/Decisions.h"
@@ -123,7 +124,7 @@ class FleetNode {
   bool changed_ = false;  // keyframes or decisions since the last publishing
   ros::WallTime last_published_, last_graph_published_;
   uint64_t taken_since_update_ = 0;
-  int candidates_published_ = 0;      // on ~decisions, as new
+  rrr::DecisionDelta decision_delta_;  // what ~decisions carries next
   int refused_by_stamp_counted_ = 0;  // in status_.counts.skipped_unknown_poses
 
   // Shared with the ROS threads under `status_.mutex`.

@@ -8,27 +8,43 @@
 
 namespace rrr {
 
+template <class Pose>
+class ChainsVerifier;
+
 // For a stream of messages each carrying some candidates with their state
-// now (rrr_node's ~decisions): which candidates the next message must carry
+// now (a node's ~decisions): which candidates the next message must carry
 // so that a consumer who applies the messages in order knows every
 // candidate's state, cluster and whether it waits for a pose. Those are the
 // ones that changed state, the ones never carried, and the ones whose
 // cluster or waiting changed since they were carried. The work of a call is
 // bounded by what it returns plus the candidates carried without a cluster
-// (waiting, or not clustered yet), not by all the candidates, unless the
-// verifier gave clustered loops other clusters since the last call
-// (OnlineVerifier::num_reclusterings; the published procedure), when every
+// (waiting, not clustered yet, or between two chains), not by all the
+// candidates, unless the verifier gave clustered loops other clusters since
+// the last call (num_reclusterings(); the published procedure), when every
 // candidate is looked at.
 class DecisionDelta {
  public:
   // The candidate numbers the next message carries, ascending, given the
   // changes of the updates since the last call; the verifier's state now is
-  // then taken as carried.
+  // then taken as carried. Of one chain's verifier, or of several chains'.
   template <class Pose>
   std::vector<int> Next(const OnlineVerifier<Pose>& verifier,
-                        const std::vector<DecisionChange>& changes);
+                        const std::vector<DecisionChange>& changes) {
+    return NextOf(verifier, changes);
+  }
+  template <class Pose>
+  std::vector<int> Next(const ChainsVerifier<Pose>& verifier,
+                        const std::vector<DecisionChange>& changes) {
+    return NextOf(verifier, changes);
+  }
 
  private:
+  // Next() of a verifier with num_candidates(), cluster_of(c), waiting(c)
+  // and num_reclusterings().
+  template <class Verifier>
+  std::vector<int> NextOf(const Verifier& verifier,
+                          const std::vector<DecisionChange>& changes);
+
   // Per candidate carried (0 .. size - 1): the cluster it was carried with
   // and whether it was waiting.
   std::vector<int> cluster_;

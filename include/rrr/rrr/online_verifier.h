@@ -113,6 +113,8 @@ class OnlineVerifier {
   }
   // The candidate's loop index in graph().loops(), or -1 while it waits.
   int loop_of(int candidate) const { return candidates_.at(candidate).loop; }
+  // Whether the candidate waits for a pose that does not exist yet.
+  bool waiting(int candidate) const { return loop_of(candidate) < 0; }
   // The candidate's end ids as given to AddLoop.
   std::pair<PoseId, PoseId> ends_of(int candidate) const;
   // Loop indices of the accepted candidates, ascending.

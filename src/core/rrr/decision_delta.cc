@@ -4,13 +4,13 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/rrr/chains/chains_verifier.h"
 
 namespace rrr {
 
-template <class Pose>
-std::vector<int> DecisionDelta::Next(
-    const OnlineVerifier<Pose>& verifier,
-    const std::vector<DecisionChange>& changes) {
+template <class Verifier>
+std::vector<int> DecisionDelta::NextOf(
+    const Verifier& verifier, const std::vector<DecisionChange>& changes) {
   const int carried = static_cast<int>(cluster_.size());
   std::vector<int> next;
   for (const DecisionChange& change : changes) {
@@ -18,7 +18,7 @@ std::vector<int> DecisionDelta::Next(
   }
   const auto moved = [&](int c) {
     return verifier.cluster_of(c) != cluster_[c] ||
-           (verifier.loop_of(c) < 0) != waiting_[c];
+           verifier.waiting(c) != waiting_[c];
   };
   if (verifier.num_reclusterings() != reclusterings_) {
     reclusterings_ = verifier.num_reclusterings();
@@ -39,7 +39,7 @@ std::vector<int> DecisionDelta::Next(
   std::vector<int> unclustered;
   for (const int c : next) {
     cluster_[c] = verifier.cluster_of(c);
-    waiting_[c] = verifier.loop_of(c) < 0;
+    waiting_[c] = verifier.waiting(c);
   }
   // Those carried before and still without a cluster, and those just
   // carried without one (both ascending; merged).
@@ -56,9 +56,13 @@ std::vector<int> DecisionDelta::Next(
   return next;
 }
 
-template std::vector<int> DecisionDelta::Next(
+template std::vector<int> DecisionDelta::NextOf(
     const OnlineVerifier<Pose2>&, const std::vector<DecisionChange>&);
-template std::vector<int> DecisionDelta::Next(
+template std::vector<int> DecisionDelta::NextOf(
     const OnlineVerifier<Pose3>&, const std::vector<DecisionChange>&);
+template std::vector<int> DecisionDelta::NextOf(
+    const ChainsVerifier<Pose2>&, const std::vector<DecisionChange>&);
+template std::vector<int> DecisionDelta::NextOf(
+    const ChainsVerifier<Pose3>&, const std::vector<DecisionChange>&);
 
 }  // namespace rrr

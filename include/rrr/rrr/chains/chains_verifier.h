@@ -108,6 +108,9 @@ class ChainsVerifier {
   int cluster_of(int candidate) const;
   bool waiting(int candidate) const;
   PoseId decided_at(int candidate) const;
+  // How many times the chains gave loops already clustered other clusters
+  // (OnlineVerifier::num_reclusterings; the map procedure never does).
+  int num_reclusterings() const;
   // The candidate's ends as given to AddLoop.
   ChainPose from(int candidate) const { return candidates_.at(candidate).a; }
   ChainPose to(int candidate) const { return candidates_.at(candidate).b; }

@@ -133,6 +133,13 @@ bool ChainsVerifier<Pose>::waiting(int candidate) const {
 }
 
 template <class Pose>
+int ChainsVerifier<Pose>::num_reclusterings() const {
+  int n = 0;
+  for (const auto& chain : chains_) n += chain->num_reclusterings();
+  return n;
+}
+
+template <class Pose>
 PoseId ChainsVerifier<Pose>::decided_at(int candidate) const {
   const Candidate& c = candidates_.at(candidate);
   if (c.own < 0) return -1;
