@@ -55,11 +55,15 @@ class OdometryChain {
   std::vector<double> travelled_;      // Σ_{m<k} |t(step m)|
 };
 
-// The chain of `graph`'s odometry: one step per consecutive pair of poses.
-// An edge stored from the later pose to the earlier is inverted; several
-// edges between the same pair are fused (to first order) into one. Throws
-// std::invalid_argument naming the pose if a pose has no odometry to its
-// predecessor.
+// The steps of `graph`'s odometry: element k-1 is the edge from pose k-1 to
+// pose k, for every pose k >= 1. An edge stored from the later pose to the
+// earlier is inverted; several edges between the same pair are fused (to
+// first order) into one. Throws std::invalid_argument naming the pose if a
+// pose has no odometry to its predecessor.
+template <class Pose>
+std::vector<Constraint<Pose>> OdometryStepsOf(const PoseGraph<Pose>& graph);
+
+// The chain of OdometryStepsOf(graph), with its exceptions.
 template <class Pose>
 OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph);
 

@@ -1,7 +1,9 @@
 #include "rrr/graph/odometry_chain.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -71,16 +73,15 @@ Constraint<Pose> OdometryChain<Pose>::Between(int i, int j) const {
 }
 
 template <class Pose>
-OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph) {
+std::vector<Constraint<Pose>> OdometryStepsOf(const PoseGraph<Pose>& graph) {
   using Information = typename Constraint<Pose>::Information;
   const int n = graph.num_poses();
-  std::vector<Pose> z(n);
-  std::vector<Information> info(n, Information::Zero());
-  std::vector<bool> linked(n, false);
+  std::vector<Constraint<Pose>> steps(std::max(n - 1, 0));
+  std::vector<bool> linked(steps.size(), false);
   for (const auto& e : graph.odometry()) {
     const bool forward = e.to == e.from + 1;
-    const int k = forward ? e.to : e.from;  // the later pose
-    // The step from k-1 to k, seen forwards: z' = z⁻¹ and
+    const int k = (forward ? e.to : e.from) - 1;  // the step to the later pose
+    // The step from k to k+1, seen forwards: z' = z⁻¹ and
     // Ω' = Ad(z)⁻ᵀ Ω Ad(z)⁻¹ for an edge stored backwards.
     Pose step = e.measurement;
     Information omega = e.information;
@@ -89,33 +90,47 @@ OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph) {
       step = e.measurement.inverse();
       omega = ad_inv.transpose() * e.information * ad_inv;
     }
+    Constraint<Pose>& s = steps[k];
     if (!linked[k]) {
-      z[k] = step;
-      info[k] = omega;
+      s.from = k;
+      s.to = k + 1;
+      s.measurement = step;
+      s.information = omega;
       linked[k] = true;
       continue;
     }
-    // Fuse: the information-weighted mean in the tangent space at z[k].
-    const Information sum = info[k] + omega;
+    // Fuse: the information-weighted mean in the tangent space at z.
+    const Information sum = s.information + omega;
     const typename Pose::Tangent shift =
-        sum.ldlt().solve(omega * z[k].between(step).Log());
-    z[k] = z[k] * Pose::Exp(shift);
-    info[k] = sum;
+        sum.ldlt().solve(omega * s.measurement.between(step).Log());
+    s.measurement = s.measurement * Pose::Exp(shift);
+    s.information = sum;
   }
-  OdometryChain<Pose> chain;
-  chain.Reserve(n);
-  for (int k = 1; k < n; ++k) {
+  for (size_t k = 0; k < steps.size(); ++k) {
     if (!linked[k]) {
-      throw std::invalid_argument("pose " + std::to_string(graph.ids()[k]) +
+      throw std::invalid_argument("pose " + std::to_string(graph.ids()[k + 1]) +
                                   " has no odometry to its predecessor");
     }
-    chain.Append(z[k], info[k]);
+  }
+  return steps;
+}
+
+template <class Pose>
+OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph) {
+  OdometryChain<Pose> chain;
+  chain.Reserve(graph.num_poses());
+  for (const Constraint<Pose>& step : OdometryStepsOf(graph)) {
+    chain.Append(step.measurement, step.information);
   }
   return chain;
 }
 
 template class OdometryChain<Pose2>;
 template class OdometryChain<Pose3>;
+template std::vector<Constraint<Pose2>> OdometryStepsOf(
+    const PoseGraph<Pose2>&);
+template std::vector<Constraint<Pose3>> OdometryStepsOf(
+    const PoseGraph<Pose3>&);
 template OdometryChain<Pose2> ChainOf(const PoseGraph<Pose2>&);
 template OdometryChain<Pose3> ChainOf(const PoseGraph<Pose3>&);
 

@@ -108,7 +108,7 @@ TEST(OdometryChain, TravelledSumsTheStepsLengthsEitherWay) {
   EXPECT_LT(chain.Relative(0, 3).translation().norm(), 6.0);
 }
 
-TEST(ChainOf, InvertsBackwardEdgesAndFusesDuplicates) {
+TEST(OdometryStepsOf, InvertsBackwardEdgesAndFusesDuplicates) {
   PoseGraph<Pose2> graph;
   for (int k = 0; k < 3; ++k) graph.AddPose(k, Pose2(k, 0, 0));
   const Pose2 step(1.0, 0.2, 0.1);
@@ -116,27 +116,44 @@ TEST(ChainOf, InvertsBackwardEdgesAndFusesDuplicates) {
   graph.AddEdge({0, 1, step, info});
   graph.AddEdge({2, 1, step.inverse(), info});  // stored backwards
   graph.AddEdge({1, 2, step, info});            // the same step again
-  const OdometryChain<Pose2> chain = ChainOf(graph);
-  ASSERT_EQ(chain.num_poses(), 3);
-  const auto second = chain.Between(1, 2);
-  EXPECT_LT(second.measurement.between(step).Log().norm(), 1e-12);
+  const std::vector<Constraint<Pose2>> steps = OdometryStepsOf(graph);
+  ASSERT_EQ(steps.size(), 2u);
+  EXPECT_EQ(steps[1].from, 1);
+  EXPECT_EQ(steps[1].to, 2);
+  EXPECT_LT(steps[1].measurement.between(step).Log().norm(), 1e-12);
   // Two measurements of one step: their information adds, the backward
   // edge's seen forwards (Ω' = Ad(z)⁻ᵀ Ω Ad(z)⁻¹ with z = step⁻¹).
   const Pose2::Jacobian ad = step.Adjoint();
   const Pose2::Jacobian expected = info + ad.transpose() * info * ad;
-  EXPECT_LT((second.information - expected).norm(), 1e-9 * expected.norm());
-  EXPECT_LT((chain.Between(0, 1).information - info).norm(), 1e-12);
+  EXPECT_LT((steps[1].information - expected).norm(), 1e-9 * expected.norm());
+  EXPECT_EQ(steps[0].information, info);
+  // The chain is made of these steps.
+  const OdometryChain<Pose2> chain = ChainOf(graph);
+  ASSERT_EQ(chain.num_poses(), 3);
+  for (int k = 0; k < 2; ++k) {
+    const auto between = chain.Between(k, k + 1);
+    EXPECT_LT(between.measurement.between(steps[k].measurement).Log().norm(),
+              1e-12);
+    EXPECT_LT((between.information - steps[k].information).norm(),
+              1e-9 * expected.norm());
+  }
 }
 
-TEST(ChainOf, NamesThePoseWithoutOdometry) {
+TEST(OdometryStepsOf, NamesThePoseWithoutOdometry) {
   PoseGraph<Pose2> graph;
   for (int k = 0; k < 3; ++k) graph.AddPose(k + 10, Pose2());
   graph.AddEdge({0, 1, Pose2(1, 0, 0), Pose2::Jacobian::Identity()});
-  try {
-    ChainOf(graph);
-    FAIL() << "no throw";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("pose 12"), std::string::npos);
+  for (const bool chain : {false, true}) {
+    try {
+      if (chain) {
+        ChainOf(graph);
+      } else {
+        OdometryStepsOf(graph);
+      }
+      FAIL() << "no throw";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("pose 12"), std::string::npos);
+    }
   }
 }
 

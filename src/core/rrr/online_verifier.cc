@@ -240,7 +240,7 @@ std::vector<int> FeedInArrivalOrder(
     int update_every,
     const std::function<void(const std::vector<DecisionChange>&)>& on_changes,
     int loop_lag) {
-  const OdometryChain<Pose> chain = ChainOf(graph);
+  const std::vector<Constraint<Pose>> steps = OdometryStepsOf(graph);
   std::vector<std::vector<int>> ending_at(graph.num_poses());
   for (size_t k = 0; k < graph.loops().size(); ++k) {
     const auto& e = graph.loops()[k];
@@ -257,8 +257,7 @@ std::vector<int> FeedInArrivalOrder(
     if (p == 0) {
       verifier->AddFirstPose(graph.ids()[0], graph.estimates()[0]);
     } else {
-      const Constraint<Pose> step = chain.Between(p - 1, p);
-      verifier->AddOdometry(step.measurement, step.information);
+      verifier->AddOdometry(steps[p - 1].measurement, steps[p - 1].information);
     }
     for (const int k : ending_at[p]) {
       const auto& e = graph.loops()[k];
