@@ -32,8 +32,9 @@ struct OdometryInputOptions {
 
 // Throws std::invalid_argument naming the option if `options` do not suit
 // Pose: `odometry_information` of another size than Pose::kDof or with a
-// value that is not positive, `odometry_min_motion` not positive, a keyframe
-// threshold or the stamp tolerance negative.
+// value that is not positive, `odometry_min_motion` not positive, or (in
+// KeyframeTrack's words) a keyframe threshold or the stamp tolerance
+// negative.
 template <class Pose>
 void Validate(const OdometryInputOptions& options);
 

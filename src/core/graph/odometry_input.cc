@@ -24,16 +24,9 @@ void Validate(const OdometryInputOptions& options) {
   if (!(options.odometry_min_motion > 0.0)) {
     throw std::invalid_argument("odometry_min_motion must be positive");
   }
-  if (!(options.keyframe_translation >= 0.0) ||
-      !(options.keyframe_rotation >= 0.0)) {
-    throw std::invalid_argument(
-        "the keyframe thresholds must not be negative, got " +
-        std::to_string(options.keyframe_translation) + " m and " +
-        std::to_string(options.keyframe_rotation) + " rad");
-  }
-  if (options.stamp_tolerance_ns < 0) {
-    throw std::invalid_argument("stamp_tolerance_ns must not be negative");
-  }
+  // The keyframe thresholds and the stamp tolerance: checked by the track.
+  KeyframeTrack<Pose>(options.keyframe_translation, options.keyframe_rotation,
+                      options.stamp_tolerance_ns);
 }
 
 template <class Pose>
