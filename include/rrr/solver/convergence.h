@@ -26,10 +26,12 @@ enum class StopReason {
                       // gradient vanishes): a minimum to that precision
   kNoAcceptableStep,  // no damped step lowers the error
   kIterationLimit,    // ConvergenceOptions::max_iterations reached
+  kOutOfReach,        // the error could not come down to the level asked
+                      // for within the iterations left (LocalProblem::Minimize)
   kNotSolved,         // a linear system could not be solved
 };
 // "not_run", "relative_decrease", "stationary", "no_acceptable_step",
-// "iteration_limit" or "not_solved".
+// "iteration_limit", "out_of_reach" or "not_solved".
 const char* ToString(StopReason reason);
 
 // What a minimization did.
@@ -38,7 +40,7 @@ struct MinimizeResult {
   int iterations = 0;
   // The last step decreased the error by less than the relative threshold,
   // or no step could decrease it by that much (false: stopped by the
-  // iteration limit, or not solved).
+  // iteration limit or out of reach, or not solved).
   bool converged = false;
   // False if a linear system could not be solved (the estimate is then the
   // best one reached before).

@@ -3,6 +3,7 @@
 #define RRR_SOLVER_LOCAL_PROBLEM_H_
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -81,9 +82,12 @@ class LocalProblem {
   // Levenberg–Marquardt iterations until a step decreases the error by less
   // than `options.relative_decrease` of it, no step can (kNoDecrease), or
   // `options.max_iterations` steps were taken (not converged). The error
-  // never increases.
-  MinimizeResult Minimize(std::vector<Pose>* x,
-                          const ConvergenceOptions& options);
+  // never increases. With a finite `reach`, it also stops (kOutOfReach, not
+  // converged) once the error could not come under `reach` in the steps
+  // left even if each lowered it as much as the last one did.
+  MinimizeResult Minimize(
+      std::vector<Pose>* x, const ConvergenceOptions& options,
+      double reach = std::numeric_limits<double>::infinity());
   // Σ w rᵀ Ω r over the problem's edges at `x` (w: their weights).
   double Chi2(const std::vector<Pose>& x) const;
 

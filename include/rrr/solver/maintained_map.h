@@ -3,6 +3,7 @@
 #define RRR_SOLVER_MAINTAINED_MAP_H_
 
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <vector>
@@ -82,8 +83,12 @@ class MaintainedMap {
 
   // What adding `loops` (not in the map) would do. The region is first
   // minimized without them, and that improvement of the estimate is kept;
-  // otherwise the map is unchanged until KeepTrial().
-  MapTrial Try(const std::vector<int>& loops, int radius);
+  // otherwise the map is unchanged until KeepTrial(). With a finite
+  // `fails_above`, the minimization with them stops once Δ could not come
+  // under it (LocalProblem::Minimize's reach): a trial that cannot pass a
+  // gate of `fails_above` is not minimized to the end.
+  MapTrial Try(const std::vector<int>& loops, int radius,
+               double fails_above = std::numeric_limits<double>::infinity());
   // `trial`, the last Try(loops, radius), fails `passes`: tries them again
   // over twice the hops, and again, while the region grows, a widening
   // lowers Δ by more than `significant` (the correction reaches the
@@ -150,10 +155,13 @@ class MaintainedMap {
   // result into the junctions and returns it with the errors of `extra` and
   // of the map's loops in the problem. With `relaxed`, the region is first
   // minimized without `extra` and `*relaxed` set to its estimates there
-  // (in the order of `region`); Δ is then taken from that minimum.
-  MapTrial Minimize(const std::vector<int>& region,
-                    const std::vector<int>& extra,
-                    std::vector<Pose>* relaxed = nullptr);
+  // (in the order of `region`); Δ is then taken from that minimum, and the
+  // minimization with `extra` stops once Δ could not come under
+  // `fails_above` (Try).
+  MapTrial Minimize(
+      const std::vector<int>& region, const std::vector<int>& extra,
+      std::vector<Pose>* relaxed = nullptr,
+      double fails_above = std::numeric_limits<double>::infinity());
   // Marks `loops` (whose ends are junctions) as loops of the map.
   void Attach(const std::vector<int>& loops);
   // Unmarks `loops` (those in the map); their ends stay junctions.

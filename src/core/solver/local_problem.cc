@@ -178,7 +178,8 @@ StepOutcome LocalProblem<Pose>::StepWithin(TrustRegion* region,
 
 template <class Pose>
 MinimizeResult LocalProblem<Pose>::Minimize(std::vector<Pose>* x,
-                                            const ConvergenceOptions& options) {
+                                            const ConvergenceOptions& options,
+                                            double reach) {
   MinimizeResult result;
   if (options.max_iterations <= 0) {
     result.initial_chi2 = result.final_chi2 = Chi2(*x);
@@ -209,6 +210,11 @@ MinimizeResult LocalProblem<Pose>::Minimize(std::vector<Pose>* x,
       result.stop = StopReason::kRelativeDecrease;
       return result;
     }
+    if (chi2 - (options.max_iterations - result.iterations) * decrease >
+        reach) {
+      result.stop = StopReason::kOutOfReach;
+      return result;
+    }
   }
   if (options.max_iterations > 0) result.stop = StopReason::kIterationLimit;
   return result;
@@ -226,6 +232,8 @@ const char* ToString(StopReason reason) {
       return "no_acceptable_step";
     case StopReason::kIterationLimit:
       return "iteration_limit";
+    case StopReason::kOutOfReach:
+      return "out_of_reach";
     case StopReason::kNotSolved:
       return "not_solved";
   }

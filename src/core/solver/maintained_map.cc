@@ -194,7 +194,8 @@ const Constraint<Pose>& MaintainedMap<Pose>::ToNext(
 template <class Pose>
 MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
                                        const std::vector<int>& extra,
-                                       std::vector<Pose>* relaxed) {
+                                       std::vector<Pose>* relaxed,
+                                       double fails_above) {
   // Local indices: the region first (ascending), then the junctions it
   // borders in the order the edges reach them.
   std::vector<typename Junctions::iterator> at(region.size());
@@ -280,7 +281,7 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
   }
 
   MapTrial trial;
-  trial.minimize = problem.Minimize(&x, convergence_);
+  trial.minimize = problem.Minimize(&x, convergence_, before + fails_above);
   trial.num_free = static_cast<int>(free.size());
   trial.increase = trial.minimize.final_chi2 - before;
   for (size_t k = num_chain_and_map; k < edges.size(); ++k) {
@@ -296,13 +297,14 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
 }
 
 template <class Pose>
-MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius) {
+MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius,
+                                  double fails_above) {
   last_trial_.reset();
   const std::vector<int> ends = PosesTouched(graph_, loops);
   for (const int p : ends) Insert(p, true);
   const std::vector<int> region = Region(ends, radius);
   std::vector<Pose> relaxed;
-  MapTrial trial = Minimize(region, loops, &relaxed);
+  MapTrial trial = Minimize(region, loops, &relaxed, fails_above);
   auto kept = std::make_unique<KeptTrial>();
   kept->loops = loops;
   kept->radius = radius;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "../testing/noisy_chain.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -119,6 +121,35 @@ TYPED_TEST(MaintainedMapTest, TryTakesTheIncreaseFromTheRegionsMinimum) {
       WholeGraphMinimum(graph, with) - WholeGraphMinimum(graph, accepted);
   const MapTrial trial = map.Try({6}, 100);
   EXPECT_NEAR(trial.increase, exact, 0.05 * exact);
+}
+
+TYPED_TEST(MaintainedMapTest, ATrialStopsOnceItsLoopsCannotComeUnderTheGate) {
+  int false_loop = -1;
+  const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
+  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const auto map_of_revisits = [&] {
+    auto map = std::make_unique<MaintainedMap<TypeParam>>(graph, chain, kTight,
+                                                          kAnyRegion);
+    map->Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
+    return map;
+  };
+  const double gate = 10.0;
+  // The false loop: to the end, and stopped once it cannot pass the gate.
+  const MapTrial full = map_of_revisits()->Try({false_loop}, 100);
+  const MapTrial stopped = map_of_revisits()->Try({false_loop}, 100, gate);
+  ASSERT_GT(full.increase, 100 * gate);
+  EXPECT_EQ(stopped.minimize.stop, StopReason::kOutOfReach);
+  EXPECT_FALSE(stopped.minimize.converged);
+  EXPECT_LT(stopped.minimize.iterations, full.minimize.iterations);
+  EXPECT_GE(stopped.increase, full.increase);
+  // The true loop 6 comes under the gate: its trial runs to the end, as
+  // without one.
+  const MapTrial true_full = map_of_revisits()->Try({6}, 100);
+  const MapTrial true_gated = map_of_revisits()->Try({6}, 100, gate);
+  ASSERT_LT(true_full.increase, gate);
+  EXPECT_EQ(true_gated.minimize.stop, true_full.minimize.stop);
+  EXPECT_EQ(true_gated.minimize.iterations, true_full.minimize.iterations);
+  EXPECT_EQ(true_gated.increase, true_full.increase);
 }
 
 TYPED_TEST(MaintainedMapTest, RegionsStopGrowingAtTheJunctionLimit) {

@@ -169,7 +169,7 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // map), which passed the tests against the odometry alone.
   void JudgeAgainstMap(int c, std::vector<int> links);
   // `links` against `against`; against the map, over the junctions within
-  // `map_radius` hops.
+  // `map_radius` hops, stopped once Δ cannot come under its gate (it fails).
   MapTrial Test(const std::vector<int>& links, Against against);
   // Whether `trial` of links against `against` solved, with its error under
   // the gate of its dof and each link's d²_l under the gate of one.

@@ -29,7 +29,9 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
   if (against == Against::kMap) {
     ++stats_.trials;
     this->CountSolves(1);
-    trial = map_->Try(links, options_.map_radius);
+    trial =
+        map_->Try(links, options_.map_radius,
+                  Gate(against, Pose::kDof * static_cast<int>(links.size())));
   } else {
     ++stats_.own_solves;
     this->CountSolves(1);
