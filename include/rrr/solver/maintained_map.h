@@ -94,8 +94,9 @@ class MaintainedMap {
   // lowers Δ by more than `significant` (the correction reaches the
   // region's border) and Δ is not over `gate` by more than the last
   // widening lowered it (the correction fades as the region grows: no
-  // further widening brings it under). Returns the last trial (the one
-  // kept); `*tries` counts the trials made.
+  // further widening brings it under). Each wider trial stops once Δ could
+  // not come under `gate` (Try's `fails_above`). Returns the last trial (the
+  // one kept); `*tries` counts the trials made.
   MapTrial Widen(MapTrial trial, const std::vector<int>& loops, int radius,
                  double gate, double significant,
                  const std::function<bool(const MapTrial&)>& passes,

@@ -324,7 +324,7 @@ MapTrial MaintainedMap<Pose>::Widen(
     double significant, const std::function<bool(const MapTrial&)>& passes,
     int* tries) {
   for (int r = 2 * radius; trial.minimize.solved && !passes(trial); r *= 2) {
-    MapTrial wider = Try(loops, r);
+    MapTrial wider = Try(loops, r, gate);
     ++*tries;
     if (wider.num_free == trial.num_free) break;  // the whole region
     const double lowered = trial.increase - wider.increase;

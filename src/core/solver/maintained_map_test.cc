@@ -152,6 +152,33 @@ TYPED_TEST(MaintainedMapTest, ATrialStopsOnceItsLoopsCannotComeUnderTheGate) {
   EXPECT_EQ(true_gated.increase, true_full.increase);
 }
 
+TYPED_TEST(MaintainedMapTest,
+           AWideningStopsOnceItsLoopsCannotComeUnderTheGate) {
+  int false_loop = -1;
+  const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
+  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
+  map.Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
+  const double gate = 10.0;
+  const auto passes = [&](const MapTrial& t) { return t.increase < gate; };
+  // The false loop over one hop, widened: every wider trial stops as soon
+  // as it cannot pass, and the widening ends where Δ stays over the gate.
+  int tries = 0;
+  const MapTrial narrow = map.Try({false_loop}, 1, gate);
+  const MapTrial wide =
+      map.Widen(narrow, {false_loop}, 1, gate, 1e-9, passes, &tries);
+  EXPECT_GE(tries, 1);
+  EXPECT_FALSE(passes(wide));
+  EXPECT_EQ(wide.minimize.stop, StopReason::kOutOfReach);
+  // The true loop 6, which passes once the region is wide enough, is
+  // minimized to the end as without a gate.
+  tries = 0;
+  const MapTrial six =
+      map.Widen(map.Try({6}, 1, gate), {6}, 1, gate, 1e-9, passes, &tries);
+  EXPECT_TRUE(passes(six));
+  EXPECT_NE(six.minimize.stop, StopReason::kOutOfReach);
+}
+
 TYPED_TEST(MaintainedMapTest, RegionsStopGrowingAtTheJunctionLimit) {
   const auto graph = Revisits<TypeParam>();
   const OdometryChain<TypeParam> chain = ChainOf(graph);
