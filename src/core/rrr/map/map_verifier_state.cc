@@ -10,18 +10,16 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 4";
+constexpr char kStateFormat[] = "rrr map procedure state, version 5";
 
-// The options that decisions depend on, as bytes: a state saved under
-// others is not restored.
+// The options that the map procedure's decisions depend on, as bytes: a
+// state saved under others is not restored (those of the published
+// procedure alone, such as `iterations`, do not count).
 std::string DecisionOptions(const RrrOptions& o, int dof) {
   ByteWriter out;
   for (const std::int64_t v :
        {static_cast<std::int64_t>(dof), static_cast<std::int64_t>(o.procedure),
         static_cast<std::int64_t>(o.cluster_window),
-        static_cast<std::int64_t>(o.iterations),
-        static_cast<std::int64_t>(o.steps),
-        static_cast<std::int64_t>(o.span_gate),
         static_cast<std::int64_t>(o.max_future_poses),
         static_cast<std::int64_t>(o.max_waiting),
         static_cast<std::int64_t>(o.decision_delay),

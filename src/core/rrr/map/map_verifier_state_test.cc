@@ -125,6 +125,22 @@ TEST(MapVerifierState, ARestoredVerifierDecidesAsTheOneThatSavedItIn3D) {
   ExpectRestoredVerifierDecidesAlike(graph, 450, 7);
 }
 
+TEST(MapVerifierState, OptionsOfThePublishedProcedureAloneDoNotCount) {
+  const SimulatedWorld w = GroupedWorld();
+  MapVerifier<Pose2> saver{RrrOptions()};
+  Feed<Pose2>(w.graph, 0, 600, &saver, [&](int) { saver.Update(); });
+  RrrOptions other;
+  other.iterations = 7;
+  other.steps = SolveSteps::kTrustRegion;
+  other.span_gate = true;
+  MapVerifier<Pose2> verifier(other);
+  Feed<Pose2>(w.graph, 0, 600, &verifier, nullptr);
+  const std::string state = saver.SaveState();
+  EXPECT_TRUE(verifier.SavedUnderSameOptions(state));
+  verifier.RestoreState(state);
+  EXPECT_EQ(verifier.SaveState(), state);
+}
+
 TEST(MapVerifierState, AStateOfOtherOptionsIsNotRestored) {
   const SimulatedWorld w = GroupedWorld();
   MapVerifier<Pose2> saver{RrrOptions()};
