@@ -50,6 +50,8 @@ bool SameBits(const std::vector<Pose>& a, const std::vector<Pose>& b) {
   if (a.size() != b.size()) return false;
   for (size_t k = 0; k < a.size(); ++k) {
     const typename Pose::Parts pa = a[k].parts(), pb = b[k].parts();
+    // Bit for bit, as the state promises (0.0 and -0.0 differ here).
+    // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison)
     if (std::memcmp(pa.data(), pb.data(), sizeof(pa)) != 0) return false;
   }
   return true;
