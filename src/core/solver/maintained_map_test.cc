@@ -54,6 +54,16 @@ PoseGraph<Pose> RevisitsWithAFalseLoop(int* false_loop) {
   return graph;
 }
 
+// A map of `graph`'s revisits 0..5, minimized near them.
+template <class Pose>
+std::unique_ptr<MaintainedMap<Pose>> MapOfRevisits(
+    const PoseGraph<Pose>& graph, const OdometryChain<Pose>& chain) {
+  auto map =
+      std::make_unique<MaintainedMap<Pose>>(graph, chain, kTight, kAnyRegion);
+  map->Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
+  return map;
+}
+
 // Revisits() as two sessions: no odometry from pose 249 to pose 250 (the
 // ids skip one there) and the second's estimates moved by 2 m and 0.3 rad;
 // loops 2 and 3 join them.
@@ -127,16 +137,11 @@ TYPED_TEST(MaintainedMapTest, ATrialStopsOnceItsLoopsCannotComeUnderTheGate) {
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
   const OdometryChain<TypeParam> chain = ChainOf(graph);
-  const auto map_of_revisits = [&] {
-    auto map = std::make_unique<MaintainedMap<TypeParam>>(graph, chain, kTight,
-                                                          kAnyRegion);
-    map->Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
-    return map;
-  };
   const double gate = 10.0;
   // The false loop: to the end, and stopped once it cannot pass the gate.
-  const MapTrial full = map_of_revisits()->Try({false_loop}, 100);
-  const MapTrial stopped = map_of_revisits()->Try({false_loop}, 100, gate);
+  const MapTrial full = MapOfRevisits(graph, chain)->Try({false_loop}, 100);
+  const MapTrial stopped =
+      MapOfRevisits(graph, chain)->Try({false_loop}, 100, gate);
   ASSERT_GT(full.increase, 100 * gate);
   EXPECT_EQ(stopped.minimize.stop, StopReason::kOutOfReach);
   EXPECT_FALSE(stopped.minimize.converged);
@@ -144,8 +149,8 @@ TYPED_TEST(MaintainedMapTest, ATrialStopsOnceItsLoopsCannotComeUnderTheGate) {
   EXPECT_GE(stopped.increase, full.increase);
   // The true loop 6 comes under the gate: its trial runs to the end, as
   // without one.
-  const MapTrial true_full = map_of_revisits()->Try({6}, 100);
-  const MapTrial true_gated = map_of_revisits()->Try({6}, 100, gate);
+  const MapTrial true_full = MapOfRevisits(graph, chain)->Try({6}, 100);
+  const MapTrial true_gated = MapOfRevisits(graph, chain)->Try({6}, 100, gate);
   ASSERT_LT(true_full.increase, gate);
   EXPECT_EQ(true_gated.minimize.stop, true_full.minimize.stop);
   EXPECT_EQ(true_gated.minimize.iterations, true_full.minimize.iterations);
@@ -157,25 +162,36 @@ TYPED_TEST(MaintainedMapTest,
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
   const OdometryChain<TypeParam> chain = ChainOf(graph);
-  MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
-  map.Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
+  const auto map = MapOfRevisits(graph, chain);
   const double gate = 10.0;
   const auto passes = [&](const MapTrial& t) { return t.increase < gate; };
   // The false loop over one hop, widened: every wider trial stops as soon
   // as it cannot pass, and the widening ends where Δ stays over the gate.
   int tries = 0;
-  const MapTrial narrow = map.Try({false_loop}, 1, gate);
+  const MapTrial narrow = map->Try({false_loop}, 1, gate);
   const MapTrial wide =
-      map.Widen(narrow, {false_loop}, 1, gate, 1e-9, passes, &tries);
+      map->Widen(narrow, {false_loop}, 1, gate, 1e-9, passes, &tries);
   EXPECT_GE(tries, 1);
   EXPECT_FALSE(passes(wide));
   EXPECT_EQ(wide.minimize.stop, StopReason::kOutOfReach);
-  // The true loop 6, which passes once the region is wide enough, is
-  // minimized to the end as without a gate.
+  // The true loop 6 under a gate between its Δ over one hop and over the
+  // whole map: it fails narrow, passes widened, and that trial is minimized
+  // to the end as without a gate.
+  const double one_hop = MapOfRevisits(graph, chain)->Try({6}, 1).increase;
+  const double whole = MapOfRevisits(graph, chain)->Try({6}, 100).increase;
+  ASSERT_GT(one_hop, whole);
+  const double six_gate = (one_hop + whole) / 2;
+  const auto six_passes = [&](const MapTrial& t) {
+    return t.increase < six_gate;
+  };
+  const auto six_map = MapOfRevisits(graph, chain);
+  const MapTrial six_narrow = six_map->Try({6}, 1, six_gate);
+  ASSERT_FALSE(six_passes(six_narrow));
   tries = 0;
   const MapTrial six =
-      map.Widen(map.Try({6}, 1, gate), {6}, 1, gate, 1e-9, passes, &tries);
-  EXPECT_TRUE(passes(six));
+      six_map->Widen(six_narrow, {6}, 1, six_gate, 1e-9, six_passes, &tries);
+  EXPECT_GE(tries, 1);
+  EXPECT_TRUE(six_passes(six));
   EXPECT_NE(six.minimize.stop, StopReason::kOutOfReach);
 }
 
