@@ -127,31 +127,34 @@ TEST(MapVerifierState, ARestoredVerifierDecidesAsTheOneThatSavedItIn3D) {
   ExpectRestoredVerifierDecidesAlike(graph, 450, 7);
 }
 
-TEST(MapVerifierState, OptionsOfThePublishedProcedureAloneDoNotCount) {
+// The state of a verifier with the default options after the first 600
+// poses of GroupedWorld(), updated after each; gives `other` the same inputs
+// without an update.
+std::string DefaultStateWithInputsTo(MapVerifier<Pose2>* other) {
   const SimulatedWorld w = GroupedWorld();
   MapVerifier<Pose2> saver{RrrOptions()};
   Feed<Pose2>(w.graph, 0, 600, &saver, [&](int) { saver.Update(); });
+  Feed<Pose2>(w.graph, 0, 600, other, nullptr);
+  return saver.SaveState();
+}
+
+TEST(MapVerifierState, OptionsOfThePublishedProcedureAloneDoNotCount) {
   RrrOptions other;
   other.iterations = 7;
   other.steps = SolveSteps::kTrustRegion;
   other.span_gate = true;
   MapVerifier<Pose2> verifier(other);
-  Feed<Pose2>(w.graph, 0, 600, &verifier, nullptr);
-  const std::string state = saver.SaveState();
+  const std::string state = DefaultStateWithInputsTo(&verifier);
   EXPECT_TRUE(verifier.SavedUnderSameOptions(state));
   verifier.RestoreState(state);
   EXPECT_EQ(verifier.SaveState(), state);
 }
 
 TEST(MapVerifierState, AStateOfOtherOptionsIsNotRestored) {
-  const SimulatedWorld w = GroupedWorld();
-  MapVerifier<Pose2> saver{RrrOptions()};
-  Feed<Pose2>(w.graph, 0, 600, &saver, [&](int) { saver.Update(); });
   RrrOptions other;
   other.noise_margin = 4.0;
   MapVerifier<Pose2> verifier(other);
-  Feed<Pose2>(w.graph, 0, 600, &verifier, nullptr);
-  const std::string state = saver.SaveState();
+  const std::string state = DefaultStateWithInputsTo(&verifier);
   EXPECT_FALSE(verifier.SavedUnderSameOptions(state));
   EXPECT_THROW(verifier.RestoreState(state), std::runtime_error);
 }
