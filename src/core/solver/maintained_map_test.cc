@@ -195,6 +195,28 @@ TYPED_TEST(MaintainedMapTest,
   EXPECT_NE(six.minimize.stop, StopReason::kOutOfReach);
 }
 
+TYPED_TEST(MaintainedMapTest, ARelaxationWidensAsFarAsItsCorrectionSpreads) {
+  int false_loop = -1;
+  const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
+  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  // The false loop bends the whole map. Added over one hop: widened while a
+  // widening lowers the error by more than 1e-9, the relaxation reaches the
+  // map's minimum (a minimization of the whole map starts and ends there);
+  // not widened (nothing counts as a change), the junctions beyond one hop
+  // stay where they were, far from it.
+  const auto widened = MapOfRevisits(graph, chain);
+  widened->Add({false_loop}, 1, 1e-9);
+  const MinimizeResult from_widened = widened->Optimize();
+  const auto narrow = MapOfRevisits(graph, chain);
+  narrow->Add({false_loop}, 1, 1e30);
+  const MinimizeResult from_narrow = narrow->Optimize();
+  EXPECT_NEAR(from_narrow.final_chi2, from_widened.final_chi2,
+              1e-6 * from_widened.final_chi2);
+  EXPECT_NEAR(from_widened.initial_chi2, from_widened.final_chi2,
+              1e-6 * from_widened.final_chi2);
+  EXPECT_GT(from_narrow.initial_chi2, 1.5 * from_narrow.final_chi2);
+}
+
 TYPED_TEST(MaintainedMapTest, RegionsStopGrowingAtTheJunctionLimit) {
   const auto graph = Revisits<TypeParam>();
   const OdometryChain<TypeParam> chain = ChainOf(graph);
