@@ -217,6 +217,20 @@ TYPED_TEST(MaintainedMapTest, ARelaxationWidensAsFarAsItsCorrectionSpreads) {
   EXPECT_GT(from_narrow.initial_chi2, 1.5 * from_narrow.final_chi2);
 }
 
+TYPED_TEST(MaintainedMapTest, AKeptTrialRelaxesTheMapBeyondItsRegion) {
+  int false_loop = -1;
+  const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
+  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  // A trial over one hop is at its region's minimum with the loop; kept, the
+  // map around it is relaxed as after an Add, up to the map's minimum.
+  const auto map = MapOfRevisits(graph, chain);
+  map->Try({false_loop}, 1);
+  map->KeepTrial(1e-9);
+  const MinimizeResult from_kept = map->Optimize();
+  EXPECT_NEAR(from_kept.initial_chi2, from_kept.final_chi2,
+              1e-6 * from_kept.final_chi2);
+}
+
 TYPED_TEST(MaintainedMapTest, RegionsStopGrowingAtTheJunctionLimit) {
   const auto graph = Revisits<TypeParam>();
   const OdometryChain<TypeParam> chain = ChainOf(graph);
