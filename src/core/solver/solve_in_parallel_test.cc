@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <numeric>
 #include <stdexcept>
+#include <vector>
 
 namespace rrr {
 namespace {
@@ -24,6 +26,17 @@ class EchoSolver : public ConsistencySolver {
   }
   int residual_dim() const override { return 3; }
 };
+
+TEST(ForEachInParallel, CallsEveryIndexOnce) {
+  for (const int threads : {1, 2, 7}) {
+    std::vector<std::atomic<int>> calls(100);
+    ForEachInParallel(calls.size(), threads, [&](size_t k) { ++calls[k]; });
+    for (size_t k = 0; k < calls.size(); ++k) {
+      EXPECT_EQ(calls[k].load(), 1) << "index " << k << ", " << threads;
+    }
+  }
+  ForEachInParallel(0, 4, [](size_t) { FAIL() << "no index to call"; });
+}
 
 TEST(SolveInParallel, ReturnsTheErrorsInSubsetOrder) {
   std::vector<std::vector<int>> subsets(50);

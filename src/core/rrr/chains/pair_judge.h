@@ -23,6 +23,7 @@
 #include "rrr/solver/chain_maps.h"
 #include "rrr/solver/maintained_map.h"
 #include "rrr/solver/pose_graph_solver.h"
+#include "rrr/solver/solve_in_parallel.h"
 
 namespace rrr {
 
@@ -61,6 +62,7 @@ class PairJudge {
         radius_(options.map_radius),
         most_junctions_(options.map_junctions),
         convergence_(options.convergence),
+        threads_(options.threads),
         group_scale_(group_scale),
         map_scale_(map_scale),
         verdict_(verdict) {
@@ -218,16 +220,22 @@ class PairJudge {
       const int dof = e * (static_cast<int>(c->links.size()) - 1);
       const double gate = group_scale_ * chi2_(dof);
       if (brought < gate) return true;
-      // The link that brings most: the error with it minus without it.
+      // The link that brings most: the error with it minus without it (the
+      // errors without each link solved side by side).
+      std::vector<double> without(c->links.size(), 0.0);
+      if (c->links.size() > 2) {
+        ForEachInParallel(c->links.size(), threads_, [&](size_t n) {
+          std::vector<int> rest = c->links;
+          rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(n));
+          without[n] = OwnError(rest);
+        });
+      }
       double most = -1.0, without_most = 0.0;
       size_t worst = 0;
       for (size_t n = 0; n < c->links.size(); ++n) {
-        std::vector<int> rest = c->links;
-        rest.erase(rest.begin() + n);
-        const double without = rest.size() >= 2 ? OwnError(rest) : 0.0;
-        if (brought - without > most) {
-          most = brought - without;
-          without_most = without;
+        if (brought - without[n] > most) {
+          most = brought - without[n];
+          without_most = without[n];
           worst = n;
         }
       }
@@ -442,6 +450,7 @@ class PairJudge {
   const int radius_;
   const int most_junctions_;
   const ConvergenceOptions convergence_;
+  const int threads_;  // rule 1's solves side by side (RrrOptions::threads)
   const double group_scale_;
   const double map_scale_;
   Verdict* verdict_;

@@ -98,6 +98,40 @@ TEST(VerifyChains, RevisitsFarApartJoinSessionsWhateverTheDriftBetweenThem) {
   EXPECT_EQ(v.pairs[0].accepted.size(), 24u);
 }
 
+TEST(VerifyChains, DecisionsDoNotDependOnTheThreads) {
+  // Two sessions joined by their true loops, with groups of five false loops
+  // between them that agree with themselves: rule 1 weighs what each link
+  // of a cluster brings, solves that run side by side with more threads.
+  const SimulatedWorld world = SimulateWorld(Grid(1000, 4));
+  PoseGraph<Pose2> two = CutAt(world.graph, {500});
+  FalseLoopOptions spoil;
+  spoil.count = 100;
+  spoil.group = 5;
+  spoil.between_chains = true;
+  spoil.seed = 11;
+  AddFalseLoops(&two, spoil);
+  RrrOptions options = ChainWorldOptions();
+  const ChainsVerdict<Pose2> one = VerifyChains(two, options);
+  ASSERT_EQ(one.pairs.size(), 1u);
+  EXPECT_TRUE(one.pairs[0].joined);
+  int own_links = 0;
+  for (const int k : one.pairs[0].candidates) {
+    own_links += one.verdict.reasons[k].test == DecisionTest::kOwnLink;
+  }
+  EXPECT_GT(own_links, 0);
+  for (const int threads : {2, 3}) {
+    options.threads = threads;
+    const ChainsVerdict<Pose2> many = VerifyChains(two, options);
+    EXPECT_EQ(many.verdict.accepted, one.verdict.accepted) << threads;
+    EXPECT_EQ(many.verdict.rejected, one.verdict.rejected) << threads;
+    for (const int k : one.pairs[0].candidates) {
+      EXPECT_EQ(many.verdict.reasons[k].test, one.verdict.reasons[k].test);
+      EXPECT_EQ(many.verdict.reasons[k].statistic,
+                one.verdict.reasons[k].statistic);
+    }
+  }
+}
+
 TEST(VerifyChains, ThreeSessionsMakeOneMapWithTheLoopsOfEveryPair) {
   // The pairs judged after two joins hold their chains in one map already;
   // their loops are judged against it, whichever chains lie between them.
