@@ -13,6 +13,7 @@
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/disjoint_sets.h"
 #include "rrr/rrr/map/verify_with_map.h"
+#include "rrr/solver/solve_in_parallel.h"
 
 namespace rrr {
 
@@ -53,12 +54,11 @@ ChainsVerdict<Pose> VerifyChains(const PoseGraph<Pose>& graph,
     out.verdict = VerifyWithMap(graph, options, &out.estimates, stats);
     return out;
   }
-  // Each chain alone, as if it were the whole graph.
-  std::vector<ChainAlone<Pose>> alone;
-  alone.reserve(chains.size());
-  for (const ChainSpan& span : chains) {
-    alone.push_back(JudgeAlone(graph, span, {}, options));
-  }
+  // Each chain alone, as if it were the whole graph (side by side).
+  std::vector<ChainAlone<Pose>> alone(chains.size());
+  ForEachInParallel(chains.size(), options.threads, [&](size_t c) {
+    alone[c] = JudgeAlone(graph, chains[c], {}, options);
+  });
   return JudgeChains(graph, std::move(alone), options, stats);
 }
 
@@ -137,7 +137,7 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
     const std::vector<int> before = loops_of(refuted);
     const std::vector<int> now = loops_of(next);
     refuted = std::move(next);
-    for (size_t c = 0; c < chains.size(); ++c) {
+    ForEachInParallel(chains.size(), options.threads, [&](size_t c) {
       const auto of_chain = [&](const std::vector<int>& loops) {
         std::vector<int> in;
         for (const int k : loops) {
@@ -146,9 +146,9 @@ ChainsVerdict<Pose> JudgeChains(const PoseGraph<Pose>& graph,
         return in;
       };
       const std::vector<int> left_out = of_chain(now);
-      if (of_chain(before) == left_out) continue;
+      if (of_chain(before) == left_out) return;
       alone[c] = JudgeAlone(graph, chains[c], left_out, options);
-    }
+    });
   }
 }
 
