@@ -14,7 +14,11 @@ import time
 # rosbag play, waiting for its subscribers, with an outgoing queue that holds
 # a whole bag: rosbag's default (100 per topic) drops messages when the node
 # reads them more slowly than the bag plays (a loaded machine, a fast rate).
-ROSBAG_PLAY = ["rosbag", "play", "--quiet", "--wait-for-subscribers", "--queue", "1000000"]
+# Kept alive past the bag's end: a player that exits shuts its connections
+# down and drops what is still queued for the node. Stop it with stop() once
+# the node has taken in what the caller waits for.
+ROSBAG_PLAY = ["rosbag", "play", "--quiet", "--wait-for-subscribers", "--keep-alive",
+               "--queue", "1000000"]
 
 
 def ros_env(build_dir, port, home=None):
@@ -56,16 +60,18 @@ def stop(process, timeout=30):
         process.wait()
 
 
-def wait_for(condition, seconds, what, period=0.5):
+def wait_for(condition, seconds, what, period=0.5, state=None):
     """Calls `condition` until it returns something true (returned) or
-    `seconds` pass (AssertionError naming `what`)."""
+    `seconds` pass (AssertionError naming `what`, and `state()` if given:
+    what the caller last saw)."""
     deadline = time.time() + seconds
     while time.time() < deadline:
         value = condition()
         if value:
             return value
         time.sleep(period)
-    raise AssertionError(f"timed out after {seconds} s waiting for {what}")
+    seen = f"; {state()}" if state else ""
+    raise AssertionError(f"timed out after {seconds} s waiting for {what}{seen}")
 
 
 def service(env, name, request="{}", timeout=600):

@@ -3,8 +3,10 @@
 keyframe each, straight ahead) while CANDIDATES loop closures go out as fast
 as they can, mixed: ids far past the newest keyframe, stamps in the future,
 NaN poses, negative covariances, self-loops, consecutive poses, near-future
-ids, and junk pairs of existing keyframes. Prints one JSON line: how many
-messages of each topic were published. Run in the package's ROS environment.
+ids, and junk pairs of existing keyframes. Stays until the node says it
+received them all (~get_status; a publisher that exits drops what is still
+queued), then prints one JSON line: how many messages of each topic were
+published. Run in the package's ROS environment.
 
     test/flood_publisher.py CANDIDATES RATE
 """
@@ -17,6 +19,7 @@ import threading
 import rospy
 from nav_msgs.msg import Odometry
 from rrr_slam.msg import LoopClosure
+from rrr_slam.srv import GetStatus
 
 COVARIANCE = [0.0] * 36
 for axis in range(6):
@@ -90,7 +93,13 @@ def main():
     stop.set()
     thread.join()
     # The publishers' queues go out before the node is asked what it got.
-    rospy.sleep(2.0)
+    status = rospy.ServiceProxy("/rrr_node/get_status", GetStatus)
+    deadline = rospy.get_time() + 900
+    while not rospy.is_shutdown() and rospy.get_time() < deadline:
+        got = status()
+        if (got.odometry_received, got.loop_closures_received) == (published[0], candidates):
+            break
+        rospy.sleep(0.5)
     print(json.dumps({"odometry": published[0], "loop_closures": candidates}), flush=True)
 
 

@@ -11,14 +11,16 @@ accepted.
 A fast replay: a bag played at 100 times its speed loses no input and gives
 the decisions of rrr verify; on a generated world always, and on Bicocca 25b
 (0.150) when the datasets are there (RRR_DATASETS, default
-../shared/datasets).
+../shared/datasets). A node stalled while the bag ends loses nothing either.
 """
 import json
 import os
 import pathlib
 import re
+import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -65,6 +67,15 @@ def ros_factory(tmp_path):
     yield make
     for ros in started:
         ros.close()
+
+
+def config_with(tmp_path, name, value):
+    """The launch argument of a copy of config/rrr.yaml with `name` set to
+    `value`."""
+    config = tmp_path / "rrr.yaml"
+    config.write_text(re.sub(rf"(?m)^{name}: .*$", f"{name}: {value}",
+                             (ROOT / "config" / "rrr.yaml").read_text()))
+    return f"config:={config}"
 
 
 def number(fields, *names):
@@ -132,10 +143,7 @@ def test_a_flood_past_the_queue_limit_is_refused_and_counted(ros_factory, tmp_pa
     # the worker is refused, and a flood at the publisher's full speed (tens
     # of thousands a second) outruns any worker, which also publishes and
     # answers between batches.
-    config = tmp_path / "rrr.yaml"
-    config.write_text(re.sub(r"(?m)^max_queue_length: .*$", "max_queue_length: 1",
-                             (ROOT / "config" / "rrr.yaml").read_text()))
-    sent, final, peak = flood(ros_factory(f"config:={config}"))
+    sent, final, peak = flood(ros_factory(config_with(tmp_path, "max_queue_length", 1)))
     assert peak <= MEMORY_BOUND_MB
     # The queue reached its limit and never passed it, and what came beyond
     # it was refused and counted.
@@ -150,6 +158,38 @@ def report_pairs(report):
     return {tuple(p) for p in json.loads(pathlib.Path(report).read_text())["accepted"]}
 
 
+def bag_of(graph, tmp_path):
+    """rrr to-bag of `graph` at 100 poses a second: (the bag, its odometry
+    messages, its loop candidates)."""
+    bag = tmp_path / "world.bag"
+    subprocess.run([RRR, "to-bag", graph, "--rate", "100", "-o", bag], check=True,
+                   capture_output=True)
+    lines = pathlib.Path(graph).read_text().splitlines()
+    poses = sum(1 for line in lines if line.startswith("VERTEX"))
+    return bag, poses, sum(1 for line in lines if line.startswith("EDGE")) - (poses - 1)
+
+
+def play(ros, bag, messages, rate, while_playing=None):
+    """Plays `bag` at `rate` times its speed into `ros`'s node, calls
+    `while_playing(player)` if given, and returns once the node has received
+    and taken in all `messages` of the bag (AssertionError after 300 s)."""
+    player = ros_processes.start([*ros_processes.ROSBAG_PLAY, "-r", str(rate), bag], ros.env,
+                                 ros.log)
+    last = {}
+
+    def every_input_taken():
+        last.update(ros.status())
+        return last and number(last, "odometry_received", "loop_closures_received") == number(
+            last, "inputs_processed", "inputs_refused") == messages
+    try:
+        if while_playing:
+            while_playing(player)
+        ros_processes.wait_for(every_input_taken, 300, "every input of the bag", state=lambda: (
+            f"the node's status {last}; the player's exit code {player.poll()}"))
+    finally:
+        ros_processes.stop(player)
+
+
 @pytest.mark.parametrize("source", generated_and_bicocca())
 def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_path):
     graph, window = tmp_path / "world.g2o", 10
@@ -161,23 +201,12 @@ def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_
         graph, window = source, 50
     subprocess.run([RRR, "verify", graph, "-w", str(window), "-o", tmp_path / "verified.g2o",
                     "-r", tmp_path / "report.json"], check=True, capture_output=True)
-    bag = tmp_path / "world.bag"
-    subprocess.run([RRR, "to-bag", graph, "--rate", "100", "-o", bag], check=True,
-                   capture_output=True)
-    lines = pathlib.Path(graph).read_text().splitlines()
-    poses = sum(1 for line in lines if line.startswith("VERTEX"))
-    candidates = sum(1 for line in lines if line.startswith("EDGE")) - (poses - 1)
+    bag, poses, candidates = bag_of(graph, tmp_path)
 
     # At 100x the loop topic can lag the odometry by more than a window
     # (hundreds of keyframes a second): the decisions wait for it.
     ros = ros_factory(f"cluster_window:={window}", "decision_delay:=2000")
-    play = subprocess.run([*ros_processes.ROSBAG_PLAY, "-r", "100", bag], env=ros.env,
-                          capture_output=True, text=True, timeout=600)
-    assert play.returncode == 0, play.stderr
-    final = ros_processes.wait_for(
-        lambda: (lambda s: s if s and s["queue_length"] == "0" and number(
-            s, "odometry_received", "loop_closures_received") == poses + candidates
-            else None)(ros.status()), 300, "every input of the bag")
+    play(ros, bag, poses + candidates, 100)
     saved = tmp_path / "node.g2o"
     ros_processes.service(ros.env, "/rrr_node/finish")
     ros_processes.service(ros.env, "/rrr_node/save_graph",
@@ -189,3 +218,33 @@ def test_a_replay_at_100_times_its_speed_loses_nothing(source, ros_factory, tmp_
     assert int(final["candidates"]) == candidates
     # The node's accepted graph holds exactly rrr verify's accepted loops.
     assert loop_pairs(saved) == report_pairs(tmp_path / "report.json")
+
+
+def test_a_node_stalled_past_the_bags_end_loses_nothing(ros_factory, tmp_path):
+    # The node's process stops (SIGSTOP, as a loaded machine can stall it)
+    # soon after the bag begins and goes on well after the player has sent
+    # the last message. What the node had not read waits in the sockets and
+    # in the player, kept alive, and comes when it goes on: more messages
+    # than the sockets hold, so a player that exits would lose the rest.
+    # The loop topic may then be read far ahead of the odometry, past the
+    # bound on how far ahead a candidate may name a keyframe: lifted here.
+    graph = tmp_path / "world.g2o"
+    subprocess.run([RRR, "simulate", "--poses", "15000", "--false-loops", "30", "--seed", "6",
+                    "-o", graph, "-t", tmp_path / "false.txt",
+                    "--ground-truth", tmp_path / "truth.g2o"], check=True, capture_output=True)
+    bag, poses, candidates = bag_of(graph, tmp_path)
+    ros = ros_factory(config_with(tmp_path, "max_future_keyframes", 100000))
+
+    def stall(player):
+        ros_processes.wait_for(lambda: int(ros.status().get("odometry_received", 0)) > 0, 60,
+                               "the first keyframe")
+        os.kill(ros.pid, signal.SIGSTOP)
+        try:
+            time.sleep(15)  # the bag lasts 150 s: 7.5 s at 20 times its speed
+        finally:
+            os.kill(ros.pid, signal.SIGCONT)
+    play(ros, bag, poses + candidates, 20, while_playing=stall)
+    final = ros.status()
+    assert number(final, "inputs_refused", "inputs_dropped", "invalid_messages") == 0, final
+    assert int(final["keyframes"]) == poses, final
+    assert int(final["candidates"]) == candidates, final

@@ -43,7 +43,8 @@ def start_master(tmp_path):
 
 
 def play(env, log, bag, *options):
-    """Starts rosbag play of `bag` with `options`."""
+    """Starts rosbag play of `bag` with `options` (kept alive past the bag's
+    end: stop it with stop())."""
     return subprocess.Popen([*ROSBAG_PLAY, *options, bag], env=env, stdout=log,
                             stderr=subprocess.STDOUT, start_new_session=True)
 
@@ -105,10 +106,11 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         # Play on from the last recorded keyframe (pose k is at 1 + k / RATE).
         start = (keyframes - 1) / RATE - 0.5 / RATE
         player = play(env, log, bag, "-s", f"{start:.6f}")
-        assert player.wait(timeout=300) == 0, (tmp_path / "ros.log").read_text()[-3000:]
         final = wait_for(lambda: (lambda s: s if s.get("keyframes") == str(poses)
                                   and s.get("queue_length") == "0" else None)(status(env)),
-                         120, "every keyframe")
+                         420, "every keyframe", state=lambda: f"the player's exit code "
+                         f"{player.poll()}; {(tmp_path / 'ros.log').read_text()[-3000:]}")
+        stop(player)
         subprocess.run(["rosservice", "call", "/rrr_node/finish"], env=env, check=True,
                        capture_output=True, timeout=300)
         # Only the last recorded keyframe and the candidates at its stamp come again.
@@ -166,8 +168,9 @@ def test_a_candidate_waiting_by_stamp_survives_kill(tmp_path):
         wait_for(lambda: status(env), 60, "~get_status")
         # The first 300 poses, then the candidate naming pose `later`.
         player = play(env, log, bag, "-u", f"{300 / RATE:.3f}")
-        assert player.wait(timeout=120) == 0, (tmp_path / "ros.log").read_text()[-3000:]
-        wait_for(lambda: int(status(env).get("keyframes", 0)) >= 250, 60, "the first keyframes")
+        wait_for(lambda: int(status(env).get("keyframes", 0)) >= 250, 180, "the first keyframes",
+                 state=lambda: f"the player's exit code {player.poll()}")
+        stop(player)
         before = int(status(env)["updates"])
         subprocess.run(["rostopic", "pub", "-1", "/loop_closures", "rrr_slam/LoopClosure", loop],
                        env=env, check=True, capture_output=True, timeout=60)
@@ -187,10 +190,11 @@ def test_a_candidate_waiting_by_stamp_survives_kill(tmp_path):
         keyframes = int(resumed["resumed_keyframes"])
         start = (keyframes - 1) / RATE - 0.5 / RATE
         player = play(env, log, bag, "-s", f"{start:.6f}")
-        assert player.wait(timeout=300) == 0, (tmp_path / "ros.log").read_text()[-3000:]
         final = wait_for(lambda: (lambda s: s if s.get("keyframes") == "600"
                                   and s.get("queue_length") == "0" else None)(status(env)),
-                         120, "every keyframe")
+                         420, "every keyframe", state=lambda: f"the player's exit code "
+                         f"{player.poll()}; {(tmp_path / 'ros.log').read_text()[-3000:]}")
+        stop(player)
         assert final["waiting_by_stamp"] == "0", final
         assert int(final["skipped_unknown_poses"]) == 0, final
         assert int(final["invalid_messages"]) == 0, final
