@@ -82,6 +82,15 @@ def number(fields, *names):
     return sum(int(fields[name]) for name in names)
 
 
+def received(fields):
+    """The inputs the node received (~get_status fields), if it has taken
+    every one of them in (processed or refused), else None."""
+    if not fields:
+        return None
+    got = number(fields, "odometry_received", "loop_closures_received")
+    return got if got == number(fields, "inputs_processed", "inputs_refused") else None
+
+
 def flood(ros):
     """Runs test/flood_publisher.py against `ros`'s node until the node has
     taken in everything; returns (what was sent, final status, peak MB)."""
@@ -96,9 +105,7 @@ def flood(ros):
         nonlocal peak
         peak = max(peak, ros_processes.resident_mb(ros.pid)[1])
         s = ros.status()
-        return s if s and s["queue_length"] == "0" and number(
-            s, "odometry_received", "loop_closures_received") == number(
-            s, "inputs_processed", "inputs_refused") else None
+        return s if s and s["queue_length"] == "0" and received(s) is not None else None
     final = ros_processes.wait_for(drained, 900, "the node to take in the flood", period=2)
     peak = max(peak, ros_processes.resident_mb(ros.pid)[1])
     print(f"flood: {sent}, peak resident memory {peak:.1f} MB, status {final}")
@@ -179,8 +186,7 @@ def play(ros, bag, messages, rate, while_playing=None):
 
     def every_input_taken():
         last.update(ros.status())
-        return last and number(last, "odometry_received", "loop_closures_received") == number(
-            last, "inputs_processed", "inputs_refused") == messages
+        return last and received(last) == messages
     try:
         if while_playing:
             while_playing(player)

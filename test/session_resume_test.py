@@ -18,8 +18,8 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
-from ros_processes import (ROSBAG_PLAY, free_port, node_pid, ros_env, service, stop,  # noqa: E402
-                           wait_for)
+from ros_processes import (ROSBAG_PLAY, free_port, node_pid, ros_env, service, start,  # noqa: E402
+                           stop, wait_for)
 from world_files import generated_and_bicocca, loop_pairs  # noqa: E402
 
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
@@ -37,23 +37,24 @@ def start_master(tmp_path):
     port = free_port()
     env = ros_env(BUILD, port, tmp_path)
     log = open(tmp_path / "ros.log", "w")
-    master = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log,
-                              stderr=subprocess.STDOUT, start_new_session=True)
-    return env, log, master
+    return env, log, start(["roscore", "-p", port], env, log)
 
 
 def play(env, log, bag, *options):
     """Starts rosbag play of `bag` with `options` (kept alive past the bag's
     end: stop it with stop())."""
-    return subprocess.Popen([*ROSBAG_PLAY, *options, bag], env=env, stdout=log,
-                            stderr=subprocess.STDOUT, start_new_session=True)
+    return start([*ROSBAG_PLAY, *options, bag], env, log)
+
+
+def played(player, tmp_path):
+    """What a wait on `player` reports when it times out."""
+    return f"the player's exit code {player.poll()}; {(tmp_path / 'ros.log').read_text()[-3000:]}"
 
 
 def start_node(env, database, window, log, checkpoint_keyframes=1000):
-    return subprocess.Popen(
-        ["roslaunch", "--wait", "rrr_slam", "rrr.launch", f"database:={database}",
-         f"cluster_window:={window}", f"checkpoint_keyframes:={checkpoint_keyframes}",
-         "output:=log"], env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    return start(["roslaunch", "--wait", "rrr_slam", "rrr.launch", f"database:={database}",
+                  f"cluster_window:={window}", f"checkpoint_keyframes:={checkpoint_keyframes}",
+                  "output:=log"], env, log)
 
 
 @pytest.mark.parametrize("checkpoint_keyframes", [0, 200])
@@ -108,8 +109,7 @@ def test_killed_node_resumes_with_the_decisions_of_an_uninterrupted_run(source, 
         player = play(env, log, bag, "-s", f"{start:.6f}")
         final = wait_for(lambda: (lambda s: s if s.get("keyframes") == str(poses)
                                   and s.get("queue_length") == "0" else None)(status(env)),
-                         420, "every keyframe", state=lambda: f"the player's exit code "
-                         f"{player.poll()}; {(tmp_path / 'ros.log').read_text()[-3000:]}")
+                         420, "every keyframe", state=lambda: played(player, tmp_path))
         stop(player)
         subprocess.run(["rosservice", "call", "/rrr_node/finish"], env=env, check=True,
                        capture_output=True, timeout=300)
@@ -169,7 +169,7 @@ def test_a_candidate_waiting_by_stamp_survives_kill(tmp_path):
         # The first 300 poses, then the candidate naming pose `later`.
         player = play(env, log, bag, "-u", f"{300 / RATE:.3f}")
         wait_for(lambda: int(status(env).get("keyframes", 0)) >= 250, 180, "the first keyframes",
-                 state=lambda: f"the player's exit code {player.poll()}")
+                 state=lambda: played(player, tmp_path))
         stop(player)
         before = int(status(env)["updates"])
         subprocess.run(["rostopic", "pub", "-1", "/loop_closures", "rrr_slam/LoopClosure", loop],
@@ -192,8 +192,7 @@ def test_a_candidate_waiting_by_stamp_survives_kill(tmp_path):
         player = play(env, log, bag, "-s", f"{start:.6f}")
         final = wait_for(lambda: (lambda s: s if s.get("keyframes") == "600"
                                   and s.get("queue_length") == "0" else None)(status(env)),
-                         420, "every keyframe", state=lambda: f"the player's exit code "
-                         f"{player.poll()}; {(tmp_path / 'ros.log').read_text()[-3000:]}")
+                         420, "every keyframe", state=lambda: played(player, tmp_path))
         stop(player)
         assert final["waiting_by_stamp"] == "0", final
         assert int(final["skipped_unknown_poses"]) == 0, final
