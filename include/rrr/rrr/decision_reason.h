@@ -33,7 +33,10 @@ enum class DecisionTest {
   // (RRR's reversal): `statistic` is what it brings to the map with the
   // later one, over its gate; `gate` what the later one brings with it, over
   // its own (RRR's consistency index: of two clusters that conflict, the
-  // one less consistent with the rest goes).
+  // one less consistent with the rest goes). In VerifyChains' rule 5 the
+  // later one is a coalition: the clusters between chains refused against
+  // the joined map that would fit without this one (`by_cluster`: the one
+  // it strains most).
   kOutweighed,
   // The links of the two clusters that joined two odometry chains: their
   // least error with both chains' maps held, the chains' relative pose free

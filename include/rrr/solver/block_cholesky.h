@@ -45,6 +45,8 @@ class BlockCholesky {
 
   // Solves A x = rhs. Returns false if A is not positive definite.
   bool Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x);
+  // As Solve, with the last successful Factorize().
+  bool SolveFactorized(const Eigen::VectorXd& rhs, Eigen::VectorXd* x);
 
   // Factorizes A as it is now. Returns false if A is not positive definite.
   bool Factorize();

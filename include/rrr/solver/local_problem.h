@@ -53,9 +53,13 @@ class LocalProblem {
   using Edge = Constraint<Pose>;
 
   // `free` lists distinct pose indices in [0, num_poses); `edges` are the
-  // problem's constraints, each between poses in [0, num_poses).
+  // problem's constraints, each between poses in [0, num_poses). Edges from
+  // `weighed` on (all by default) are probes: always of weight 0, they are
+  // not in the Gauss–Newton matrix's pattern (ChangesOfMinimum of groups
+  // out costs no fill-in).
   LocalProblem(int num_poses, const std::vector<int>& free,
-               std::vector<const Edge*> edges);
+               std::vector<const Edge*> edges,
+               size_t weighed = static_cast<size_t>(-1));
   ~LocalProblem();
   LocalProblem(const LocalProblem&) = delete;
   LocalProblem& operator=(const LocalProblem&) = delete;
@@ -101,10 +105,21 @@ class LocalProblem {
   // `x` (the minus for a group in it). Exact for a linear problem; one
   // factorization of H and, per group, a sparse solve per residual
   // coordinate. +∞ for a group whose taking out would leave the problem
-  // without a unique minimum. Returns false if H is not positive definite.
+  // without a unique minimum. If `without` is given, (*without)[f][g] is,
+  // for a group f in and a group g of weight 0, g's change at the minimum
+  // without f, to first order: r_g + J_g δ in place of r_g, δ = H⁻¹ J_fᵀ
+  // (Σ_f − J_f H⁻¹ J_fᵀ)⁻¹ r_f the step that takes f out (exact for a linear
+  // problem), H held; one more solve per group f. With `reach` (one per
+  // group), only the pairs where δ can bring g's change from over reach[g]
+  // to under it (a bound, not a solve, rules out the others) are found: the
+  // row of an f with none is empty, and the other pairs of a row are +∞.
+  // +∞ for g in; the row of f is empty if f is of weight 0 or its change
+  // is +∞. Returns false if H is not positive definite.
   bool ChangesOfMinimum(const std::vector<Pose>& x,
                         const std::vector<std::vector<int>>& groups,
-                        std::vector<double>* changes);
+                        std::vector<double>* changes,
+                        std::vector<std::vector<double>>* without = nullptr,
+                        const std::vector<double>& reach = {});
 
  private:
   static constexpr int D = Pose::kDof;
@@ -126,6 +141,7 @@ class LocalProblem {
   std::vector<int> free_;
   std::vector<int> block_of_pose_;  // -1 for poses held fixed
   std::vector<const Edge*> edges_;
+  size_t weighed_;               // edges from it on are probes
   std::vector<double> weights_;  // empty: all 1
   std::vector<Slots> slots_;
   std::unique_ptr<BlockCholesky<D>> system_;

@@ -53,12 +53,15 @@ class PoseGraphSolver : public ConsistencySolver {
   // At `x`, a minimum of odometry and `active_loops` (every pose): for each
   // group of loops (indices into graph.loops(), all active or all not), to
   // first order how much higher that minimum is with the group than
-  // without it (LocalProblem::ChangesOfMinimum). Returns false if the
-  // problem's Gauss–Newton matrix is not positive definite.
+  // without it (LocalProblem::ChangesOfMinimum); `without` and `reach` as
+  // there. Returns false if the problem's Gauss–Newton matrix is not
+  // positive definite.
   bool ChangesOfMinimum(const std::vector<int>& active_loops,
                         const std::vector<std::vector<int>>& groups,
                         const std::vector<Pose>& x,
-                        std::vector<double>* changes) const;
+                        std::vector<double>* changes,
+                        std::vector<std::vector<double>>* without = nullptr,
+                        const std::vector<double>& reach = {}) const;
 
   // The odometry chain every solve starts from.
   const std::vector<Pose>& initial() const { return initial_; }
@@ -78,9 +81,11 @@ class PoseGraphSolver : public ConsistencySolver {
            const std::vector<Pose>* start = nullptr) const;
 
   // The problem of odometry and `loops` over the stretch of chain they span
-  // (its last pose in `*last`), or null if they span none.
+  // (its last pose in `*last`), or null if they span none; the last `probes`
+  // of `loops` are its probes (LocalProblem).
   std::unique_ptr<LocalProblem<Pose>> Problem(const std::vector<int>& loops,
-                                              int* last) const;
+                                              int* last,
+                                              size_t probes = 0) const;
 
   const PoseGraph<Pose>& graph_;
   int iterations_;

@@ -217,6 +217,12 @@ cholmod_dense DenseColumn(Eigen::VectorXd* values) {
 template <int D>
 bool BlockCholesky<D>::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) {
   if (!Factorize()) return false;
+  return SolveFactorized(rhs, x);
+}
+
+template <int D>
+bool BlockCholesky<D>::SolveFactorized(const Eigen::VectorXd& rhs,
+                                       Eigen::VectorXd* x) {
   const std::unique_lock<std::mutex> lock = LockBlasFor(factor_);
   for (int b = 0; b < num_blocks_; ++b) {
     rhs_.template segment<D>(position_[b] * D) = rhs.template segment<D>(b * D);

@@ -15,21 +15,26 @@ namespace rrr {
 
 template <class Pose>
 LocalProblem<Pose>::LocalProblem(int num_poses, const std::vector<int>& free,
-                                 std::vector<const Edge*> edges)
-    : free_(free), block_of_pose_(num_poses, -1), edges_(std::move(edges)) {
+                                 std::vector<const Edge*> edges, size_t weighed)
+    : free_(free),
+      block_of_pose_(num_poses, -1),
+      edges_(std::move(edges)),
+      weighed_(std::min(weighed, edges_.size())) {
   for (size_t b = 0; b < free_.size(); ++b) {
     block_of_pose_[free_[b]] = static_cast<int>(b);
   }
   std::vector<std::pair<int, int>> pattern;
-  for (const Edge* e : edges_) {
-    const int a = block_of_pose_[e->from], b = block_of_pose_[e->to];
+  for (size_t k = 0; k < weighed_; ++k) {
+    const int a = block_of_pose_[edges_[k]->from];
+    const int b = block_of_pose_[edges_[k]->to];
     if (a >= 0 && b >= 0 && a != b) pattern.emplace_back(a, b);
   }
   system_ = std::make_unique<BlockCholesky<D>>(num_free(), pattern);
   slots_.reserve(edges_.size());
-  for (const Edge* e : edges_) {
+  for (size_t k = 0; k < edges_.size(); ++k) {
+    const Edge* e = edges_[k];
     Slots s{block_of_pose_[e->from], block_of_pose_[e->to], -1};
-    if (s.from >= 0 && s.to >= 0 && s.from != s.to) {
+    if (k < weighed_ && s.from >= 0 && s.to >= 0 && s.from != s.to) {
       s.off_diagonal = system_->OffDiagonalSlot(s.from, s.to);
     }
     slots_.push_back(s);
@@ -44,6 +49,11 @@ void LocalProblem<Pose>::SetWeights(std::vector<double> weights) {
   if (weights.size() != edges_.size()) {
     throw std::invalid_argument("one weight per edge is needed");
   }
+  for (size_t k = weighed_; k < weights.size(); ++k) {
+    if (weights[k] != 0.0) {
+      throw std::invalid_argument("a probe's weight must be 0");
+    }
+  }
   weights_ = std::move(weights);
 }
 
@@ -53,7 +63,7 @@ double LocalProblem<Pose>::Linearize(const std::vector<Pose>& x) {
   diagonal_.assign(free_.size(), Block::Zero());
   rhs_ = Eigen::VectorXd::Zero(num_free() * D);
   double chi2 = 0.0;
-  for (size_t k = 0; k < edges_.size(); ++k) {
+  for (size_t k = 0; k < weighed_; ++k) {
     const Edge& edge = *edges_[k];
     const Slots& s = slots_[k];
     typename Pose::Jacobian ji, jj;
@@ -243,7 +253,7 @@ const char* ToString(StopReason reason) {
 template <class Pose>
 double LocalProblem<Pose>::Chi2(const std::vector<Pose>& x) const {
   double chi2 = 0.0;
-  for (size_t k = 0; k < edges_.size(); ++k) {
+  for (size_t k = 0; k < weighed_; ++k) {
     chi2 += (weights_.empty() ? 1.0 : weights_[k]) * EdgeChi2(*edges_[k], x);
   }
   return chi2;
@@ -252,8 +262,22 @@ double LocalProblem<Pose>::Chi2(const std::vector<Pose>& x) const {
 template <class Pose>
 bool LocalProblem<Pose>::ChangesOfMinimum(
     const std::vector<Pose>& x, const std::vector<std::vector<int>>& groups,
-    std::vector<double>* changes) {
+    std::vector<double>* changes, std::vector<std::vector<double>>* without,
+    const std::vector<double>& reach) {
   Linearize(x);
+  // Each group's residuals r, Jᵀ by the blocks it touches, Σ ∓ J H⁻¹ Jᵀ and,
+  // for a group in, y = (Σ − J H⁻¹ Jᵀ)⁻¹ r and the energy δᵀ H δ = yᵀ J H⁻¹
+  // Jᵀ y of the step δ = H⁻¹ Jᵀ y that takes it out.
+  struct Terms {
+    Eigen::VectorXd r;
+    std::vector<int> blocks;
+    Eigen::MatrixXd jt;
+    Eigen::LDLT<Eigen::MatrixXd> s;
+    bool in = false;
+    Eigen::VectorXd y;
+    double energy = 0.0;
+  };
+  std::vector<Terms> terms;
   for (size_t b = 0; b < free_.size(); ++b) {
     system_->SetDiagonal(static_cast<int>(b), diagonal_[b]);
   }
@@ -277,7 +301,10 @@ bool LocalProblem<Pose>::ChangesOfMinimum(
     bool in = false;
     for (size_t l = 0; l < group.size(); ++l) {
       const Edge& edge = *edges_[group[l]];
-      const double w = weights_.empty() ? 1.0 : weights_[group[l]];
+      const size_t k = group[l];
+      const double w = k >= weighed_      ? 0.0
+                       : weights_.empty() ? 1.0
+                                          : weights_[k];
       in = w > 0.0;
       typename Pose::Jacobian ji, jj;
       r.template segment<D>(l * D) = EdgeResidualAndJacobians(
@@ -296,6 +323,55 @@ bool LocalProblem<Pose>::ChangesOfMinimum(
     changes->push_back(s.isPositive() && std::isfinite(change)
                            ? change
                            : std::numeric_limits<double>::infinity());
+    if (without) {
+      terms.push_back(
+          {r, blocks, jt.topRows(static_cast<int>(blocks.size()) * D), s, in});
+      if (in && s.isPositive()) {
+        terms.back().y = s.solve(r);
+        terms.back().energy = terms.back().y.dot(form * terms.back().y);
+      }
+    }
+  }
+  if (!without) return true;
+  // Whether taking f out can bring g from over reach[g] to under it: the
+  // step lowers √(g's change) by at most √(its energy), as J_gᵀ (Σ_g + J_g
+  // H⁻¹ J_gᵀ)⁻¹ J_g ≤ H.
+  const auto reaches = [&](const Terms& out, size_t g) {
+    if (reach.empty()) return true;
+    if (!((*changes)[g] > reach[g])) return false;
+    const double gap = std::sqrt((*changes)[g]) - std::sqrt(reach[g]);
+    return out.energy >= gap * gap;
+  };
+  without->assign(groups.size(), {});
+  for (size_t f = 0; f < terms.size(); ++f) {
+    const Terms& out = terms[f];
+    if (!out.in || !out.s.isPositive()) continue;
+    bool any = false;
+    for (size_t g = 0; g < terms.size() && !any; ++g) {
+      any = !terms[g].in && reaches(out, g);
+    }
+    if (!any) continue;
+    // The minimum moves by δ = H⁻¹ Jᵀ y when f is taken out.
+    const Eigen::VectorXd& y = out.y;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(Eigen::Index{num_free()} * D);
+    for (size_t i = 0; i < out.blocks.size(); ++i) {
+      rhs.template segment<D>(out.blocks[i] * D) +=
+          out.jt.middleRows(static_cast<int>(i) * D, D) * y;
+    }
+    Eigen::VectorXd delta;
+    if (!system_->SolveFactorized(rhs, &delta)) continue;
+    (*without)[f].assign(groups.size(),
+                         std::numeric_limits<double>::infinity());
+    for (size_t g = 0; g < terms.size(); ++g) {
+      const Terms& put = terms[g];
+      if (put.in || !reaches(out, g)) continue;
+      Eigen::VectorXd moved = put.r;
+      for (size_t i = 0; i < put.blocks.size(); ++i) {
+        moved += put.jt.middleRows(static_cast<int>(i) * D, D).transpose() *
+                 delta.template segment<D>(put.blocks[i] * D);
+      }
+      (*without)[f][g] = moved.dot(put.s.solve(moved));
+    }
   }
   return true;
 }

@@ -23,7 +23,7 @@ PoseGraphSolver<Pose>::PoseGraphSolver(const PoseGraph<Pose>& graph,
 
 template <class Pose>
 std::unique_ptr<LocalProblem<Pose>> PoseGraphSolver<Pose>::Problem(
-    const std::vector<int>& loops, int* last) const {
+    const std::vector<int>& loops, int* last, size_t probes) const {
   // The stretch of chain that the loops (and fixed poses) span. The chain
   // after it hangs free and follows odometry with zero error. The chain
   // before it is a rigid path from the fixed first pose: relative-pose
@@ -54,8 +54,9 @@ std::unique_ptr<LocalProblem<Pose>> PoseGraphSolver<Pose>::Problem(
     }
   }
   for (const int k : loops) edges.push_back(&graph_.loops()[k]);
+  const size_t weighed = edges.size() - probes;
   return std::make_unique<LocalProblem<Pose>>(graph_.num_poses(), free,
-                                              std::move(edges));
+                                              std::move(edges), weighed);
 }
 
 template <class Pose>
@@ -104,7 +105,8 @@ template <class Pose>
 bool PoseGraphSolver<Pose>::ChangesOfMinimum(
     const std::vector<int>& active_loops,
     const std::vector<std::vector<int>>& groups, const std::vector<Pose>& x,
-    std::vector<double>* changes) const {
+    std::vector<double>* changes, std::vector<std::vector<double>>* without,
+    const std::vector<double>& reach) const {
   std::vector<int> loops = active_loops;
   std::vector<int> edge_of_loop(graph_.loops().size(), -1);
   for (size_t k = 0; k < active_loops.size(); ++k) {
@@ -118,7 +120,9 @@ bool PoseGraphSolver<Pose>::ChangesOfMinimum(
     }
   }
   int last = 0;
-  const std::unique_ptr<LocalProblem<Pose>> problem = Problem(loops, &last);
+  // The inactive loops are probes: they add no fill-in to the factor.
+  const std::unique_ptr<LocalProblem<Pose>> problem =
+      Problem(loops, &last, loops.size() - active_loops.size());
   if (!problem) return false;
   // The problem's edges: its odometry, then `loops`, the inactive at 0.
   const int odometry = static_cast<int>(problem->edges().size() - loops.size());
@@ -133,7 +137,7 @@ bool PoseGraphSolver<Pose>::ChangesOfMinimum(
       edge_groups.back().push_back(odometry + edge_of_loop[k]);
     }
   }
-  return problem->ChangesOfMinimum(x, edge_groups, changes);
+  return problem->ChangesOfMinimum(x, edge_groups, changes, without, reach);
 }
 
 template <class Pose>

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <tuple>
@@ -290,6 +291,23 @@ TEST(PoseGraphSolver, CountsTheEdgesTheActiveLoopsSpan) {
   EXPECT_EQ(solver.Solve({0, 1}).num_edges, 10 + 2);
 }
 
+// Adds to `g` (of `world`) a false revisit of 5 links, poses 300–304 to
+// 500–504, each measuring the true relative pose times `off`; returns their
+// loop indices.
+std::vector<int> AddFalseRevisit(const SimulatedWorld& world, const Pose2& off,
+                                 PoseGraph<Pose2>* g) {
+  std::vector<int> revisit;
+  for (int k = 0; k < 5; ++k) {
+    Constraint<Pose2> e = g->loops().front();
+    e.from = 300 + k;
+    e.to = 500 + k;
+    e.measurement = world.truth[e.from].between(world.truth[e.to]) * off;
+    revisit.push_back(static_cast<int>(g->loops().size()));
+    g->AddEdge(e);
+  }
+  return revisit;
+}
+
 TEST(PoseGraphSolver, ChangesOfMinimumAreWhatMinimizingWithAndWithoutGives) {
   // A simulated city whose loops are true, and a false revisit of 5 links
   // that the odometry's drift could explain (1 m and 0.03 rad off).
@@ -297,16 +315,8 @@ TEST(PoseGraphSolver, ChangesOfMinimumAreWhatMinimizingWithAndWithoutGives) {
   PoseGraph<Pose2> g = world.graph;
   const int true_loops = static_cast<int>(g.loops().size());
   ASSERT_GT(true_loops, 10);
-  std::vector<int> revisit;
-  for (int k = 0; k < 5; ++k) {
-    Constraint<Pose2> e = g.loops().front();
-    e.from = 300 + k;
-    e.to = 500 + k;
-    e.measurement =
-        world.truth[e.from].between(world.truth[e.to]) * Pose2(1.0, 0.0, 0.03);
-    g.AddEdge(e);
-    revisit.push_back(true_loops + k);
-  }
+  const std::vector<int> revisit =
+      AddFalseRevisit(world, Pose2(1.0, 0.0, 0.03), &g);
   std::vector<int> true_ones(true_loops);
   std::iota(true_ones.begin(), true_ones.end(), 0);
   std::vector<int> all = true_ones;
@@ -343,6 +353,52 @@ TEST(PoseGraphSolver, ChangesOfMinimumAreWhatMinimizingWithAndWithoutGives) {
   ASSERT_TRUE(
       solver.ChangesOfMinimum(true_ones, {revisit}, with_true, &changes));
   EXPECT_NEAR(changes[0], chi2_all - chi2_true, 0.05 * (chi2_all - chi2_true));
+}
+
+TEST(PoseGraphSolver, ChangesWithoutAGroupAreWhatMinimizingWithoutItGives) {
+  // The city above with a false revisit 3 m and 0.1 rad off, three true
+  // loops left out: what they would bring to the minimum without the revisit,
+  // from the minimum with it (one step that takes the revisit out), is what
+  // minimizing gives.
+  const SimulatedWorld world = SimulateWorld(testing::Grid(600, 2));
+  PoseGraph<Pose2> g = world.graph;
+  const int true_loops = static_cast<int>(g.loops().size());
+  const std::vector<int> revisit =
+      AddFalseRevisit(world, Pose2(3.0, 0.0, 0.1), &g);
+  // Three true loops within the stretch the revisit spans: it strains them.
+  std::vector<int> left_out, others;
+  for (int k = 0; k < true_loops; ++k) {
+    const auto& e = g.loops()[k];
+    const bool within = std::min(e.from, e.to) >= 300 &&
+                        std::max(e.from, e.to) <= 505 &&
+                        std::abs(e.from - e.to) > 50;
+    (within && left_out.size() < 3 ? left_out : others).push_back(k);
+  }
+  ASSERT_EQ(left_out.size(), 3u);
+  std::vector<int> in = others;
+  in.insert(in.end(), revisit.begin(), revisit.end());
+  const PoseGraphSolver<Pose2> solver(g, 1);
+  const auto minimum = [&](const std::vector<int>& loops) {
+    MinimizeResult result;
+    const std::vector<Pose2> x =
+        solver.Optimize(loops, ConvergenceOptions(), &result);
+    return std::pair(x, result.final_chi2);
+  };
+  const std::vector<Pose2> x = minimum(in).first;
+  std::vector<double> changes;
+  std::vector<std::vector<double>> without;
+  ASSERT_TRUE(
+      solver.ChangesOfMinimum(in, {revisit, left_out}, x, &changes, &without));
+  ASSERT_EQ(without.size(), 2u);
+  ASSERT_EQ(without[0].size(), 2u);
+  EXPECT_TRUE(without[1].empty());  // a group out has nothing to take out
+  EXPECT_EQ(without[0][0], std::numeric_limits<double>::infinity());
+  std::vector<int> all = others;
+  all.insert(all.end(), left_out.begin(), left_out.end());
+  const double exact = minimum(all).second - minimum(others).second;
+  EXPECT_NEAR(without[0][1], exact, 0.05 * exact);
+  // With the revisit in, the three bring more than they would without it.
+  EXPECT_GT(changes[1], without[0][1]);
 }
 
 TEST(PoseGraphSolver, ChangesOfMinimumIn3DAreWhatMinimizingGives) {

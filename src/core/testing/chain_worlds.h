@@ -96,17 +96,19 @@ inline PoseGraph<Pose2> TwoSessionsWithFalseLoops(const SimulatedWorld& world,
 }
 
 // `world` cut into sessions at the poses `cuts` (ascending), with a false
-// revisit of 10 links inside the second after its `*true_loops` true loops:
+// revisit of `links` links inside the second after its `*true_loops` true
+// loops:
 // from pose cuts[0] + 100 + k to cuts[0] + 500 + k (the second session must
 // hold them), measuring what the odometry between them says moved 2 m ahead
 // and 0.06 rad: the odometry's drift over 400 poses can explain it, so the
 // second session alone need not refute it.
 inline PoseGraph<Pose2> SessionsWithAFalseRevisit(const SimulatedWorld& world,
                                                   const std::vector<int>& cuts,
-                                                  size_t* true_loops) {
+                                                  size_t* true_loops,
+                                                  int links = 10) {
   PoseGraph<Pose2> out = CutAt(world.graph, cuts);
   *true_loops = out.loops().size();
-  for (int k = 0; k < 10; ++k) {
+  for (int k = 0; k < links; ++k) {
     Constraint<Pose2> e = out.loops().front();
     e.from = cuts[0] + 100 + k;
     e.to = e.from + 400;

@@ -84,7 +84,12 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     rᵀ(Σ − J H⁻¹ Jᵀ)⁻¹ r), over the gate of its dof at its chain's scale
 //     (test "joined_map"). The cluster most over its gate is taken out and
 //     the map minimized again, while any is; then one taken out that now
-//     fits is put back. If any stays out, its chain is judged alone again
+//     fits is put back. The loops between chains that rule 3 refused
+//     against the bent map weigh too: a cluster whose coalition (the
+//     refused clusters that would fit without it, to first order, two of
+//     them separate evidence) outweighs it as RRR's reversal weighs two
+//     clusters is taken out (test "outweighed"), the one most outweighed
+//     first, while no other is. If any stays out, its chain is judged alone again
 //     without it (what it had bent is judged afresh) and rules 1–5 run
 //     again, until they refute the same loops as before. Rule 5 also weighs
 //     a chain's clusters in the map it is first joined to, while pairs

@@ -1,6 +1,7 @@
 #include "joined_map_review.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -9,6 +10,7 @@
 #include "rrr/graph/chain_spans.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/solver/pose_graph_solver.h"
+#include "separate_evidence.h"
 
 namespace rrr {
 
@@ -19,8 +21,92 @@ struct Weighed {
   RefutedGroup group;  // loops as indices of the map's own graph meanwhile
   bool in = true;
   bool put_back = false;
+  // A cluster between two chains that rule 3 refused against the map: never
+  // in, evidence of a coalition only (MostOutweighed).
+  bool challenger = false;
+  int second_chain = -1;  // a challenger's chains: group.chain < this one
+  int cluster = -1;       // a challenger's cluster in the verdict
   double gate = 0.0;
 };
+
+// Of the clusters in, the one its coalition outweighs most, or -1. The
+// coalition of a cluster F is the challengers over their gates that would
+// fit without F (`without[F][g]`: challenger g's change of minimum at the
+// minimum without F, to first order), if they hold two clusters that are
+// separate evidence (rule 2's condition for a join). Of F and its
+// coalition C, the one less consistent with the other goes (RRR's
+// reversal): F if Δ(F | C) / gate(F) > Δ(C | F) / gate(C) and > 1, where
+// Δ(C | F) = Σ changes of C now, Δ(F | C) = Δ(F) + Δ(C | F) − Δ(C | no F)
+// and gate(C) is at the largest scale of C's clusters.
+template <class Pose>
+int MostOutweighed(const PoseGraph<Pose>& graph,
+                   const std::vector<ChainSpan>& chains,
+                   std::vector<Weighed>* weighed,
+                   const std::vector<double>& changes,
+                   const std::vector<std::vector<double>>& without,
+                   const ChiSquareQuantile& chi2, PoseId window,
+                   const std::vector<int>& loops) {
+  const auto loops_of = [&](const Weighed& w) {
+    std::vector<int> of(w.group.loops.size());
+    for (size_t n = 0; n < of.size(); ++n) of[n] = loops[w.group.loops[n]];
+    return of;
+  };
+  int most = -1;
+  double most_ratio = 1.0;
+  DecisionReason reason;
+  for (size_t f = 0; f < weighed->size(); ++f) {
+    Weighed& outweighed = (*weighed)[f];
+    if (!outweighed.in || outweighed.challenger || without[f].empty()) {
+      continue;
+    }
+    std::vector<int> coalition;
+    double now = 0.0, apart = 0.0, scale = 0.0;
+    int links = 0;
+    for (size_t g = 0; g < weighed->size(); ++g) {
+      const Weighed& w = (*weighed)[g];
+      if (!w.challenger || !(changes[g] > w.gate) ||
+          !(without[f][g] <= w.gate)) {
+        continue;
+      }
+      coalition.push_back(static_cast<int>(g));
+      now += changes[g];
+      apart += without[f][g];
+      scale = std::max(scale, w.group.reason.scale);
+      links += static_cast<int>(w.group.loops.size());
+    }
+    bool separate = false;
+    for (size_t i = 0; i < coalition.size() && !separate; ++i) {
+      for (size_t j = i + 1; j < coalition.size() && !separate; ++j) {
+        const Weighed& a = (*weighed)[coalition[i]];
+        const Weighed& b = (*weighed)[coalition[j]];
+        separate = a.group.chain != b.group.chain ||
+                   a.second_chain != b.second_chain ||
+                   SeparateEvidence(graph, chains[a.second_chain], loops_of(a),
+                                    loops_of(b), window);
+      }
+    }
+    if (!separate) continue;
+    const double ratio = (changes[f] + now - apart) / outweighed.gate;
+    const double coalition_ratio = now / (scale * chi2(Pose::kDof * links));
+    if (ratio > coalition_ratio && ratio > most_ratio) {
+      most = static_cast<int>(f);
+      most_ratio = ratio;
+      // RRR's consistency indices, as kOutweighed records them; the
+      // coalition's cluster that F strains most stands for it.
+      int strained = coalition.front();
+      for (const int g : coalition) {
+        if (changes[g] > changes[strained]) strained = g;
+      }
+      reason = outweighed.group.reason;
+      reason.test = DecisionTest::kOutweighed;
+      reason.statistic = ratio;
+      reason.gate = coalition_ratio;
+      reason.by_cluster = (*weighed)[strained].cluster;
+    }
+  }
+  if (most >= 0) (*weighed)[most].group.reason = reason;
+  return most;
+}
 
 }  // namespace
 
@@ -77,11 +163,37 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
         k = static_cast<int>(loops.size()) - 1;
       }
     }
+    // The clusters between its chains that rule 3 refused against it.
+    std::map<int, int> challenger_of_cluster;
+    for (const int k : judged.verdict.rejected) {
+      const auto& e = graph.loops()[k];
+      const int a = std::min(chain_of(e.from), chain_of(e.to));
+      const int b = std::max(chain_of(e.from), chain_of(e.to));
+      const DecisionTest test = judged.verdict.reasons[k].test;
+      if (a == b || judged.map_of_chain[a] != m ||
+          judged.map_of_chain[b] != m ||
+          (test != DecisionTest::kMap && test != DecisionTest::kMapBound)) {
+        continue;
+      }
+      // Every loop between chains is in a cluster of its pair.
+      const int cluster = judged.verdict.cluster_of_loop[k];
+      const auto [at, added] = challenger_of_cluster.emplace(
+          cluster, static_cast<int>(weighed.size()));
+      if (added)
+        weighed.push_back({{a, {}, {}}, false, true, true, b, cluster});
+      weighed[at->second].group.loops.push_back(static_cast<int>(loops.size()));
+      loops.push_back(k);
+    }
     for (Weighed& w : weighed) {
       const int n = static_cast<int>(w.group.loops.size());
-      const MapVerifierStats& s = alone[w.group.chain].stats;
+      double scale = 0.0;
+      for (const int c :
+           {w.group.chain, w.challenger ? w.second_chain : w.group.chain}) {
+        const MapVerifierStats& s = alone[c].stats;
+        scale = std::max(scale, n == 1 ? s.noise_scale : s.group_noise_scale);
+      }
       w.group.reason.test = DecisionTest::kJoinedMap;
-      w.group.reason.scale = n == 1 ? s.noise_scale : s.group_noise_scale;
+      w.group.reason.scale = scale;
       w.group.reason.dof = Pose::kDof * n;
       w.gate = w.group.reason.scale * chi2(w.group.reason.dof);
       w.group.reason.gate = w.gate;
@@ -100,16 +212,36 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
       }
       return active;
     };
+    // The clusters inside chains, then the challengers (weighed only at the
+    // coalitions); a challenger joins a coalition if it would fit: under its
+    // gate.
     std::vector<std::vector<int>> groups;
     groups.reserve(weighed.size());
-    for (const Weighed& w : weighed) groups.push_back(w.group.loops);
+    std::vector<double> reach;
+    for (const Weighed& w : weighed) {
+      groups.push_back(w.group.loops);
+      reach.push_back(w.challenger ? w.gate
+                                   : std::numeric_limits<double>::infinity());
+    }
+    const size_t own = weighed.size() - challenger_of_cluster.size();
+    const std::vector<std::vector<int>> own_groups(groups.begin(),
+                                                   groups.begin() + own);
+    bool challenged = false;  // at this x
     for (;;) {
       std::vector<double> changes;
-      if (!solver.ChangesOfMinimum(active_loops(), groups, x, &changes)) break;
+      std::vector<std::vector<double>> without;
+      if (!(challenged ? solver.ChangesOfMinimum(active_loops(), groups, x,
+                                                 &changes, &without, reach)
+                       : solver.ChangesOfMinimum(active_loops(), own_groups, x,
+                                                 &changes))) {
+        break;
+      }
       int worst = -1, best = -1;
-      for (size_t g = 0; g < weighed.size(); ++g) {
+      for (size_t g = 0; g < own; ++g) {
         Weighed& w = weighed[g];
-        w.group.reason.statistic = changes[g];
+        if (w.group.reason.test == DecisionTest::kJoinedMap) {
+          w.group.reason.statistic = changes[g];
+        }
         const double ratio = changes[g] / w.gate;
         if (w.in && ratio > 1.0 &&
             (worst < 0 || ratio > changes[worst] / weighed[worst].gate)) {
@@ -125,13 +257,25 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
       } else if (best >= 0) {
         weighed[best].in = true;
         weighed[best].put_back = true;
+      } else if (!challenged && own < weighed.size()) {
+        // Nothing left to take out or put back: the coalitions, at this x.
+        challenged = true;
+        continue;
       } else {
-        break;
+        const int f =
+            challenged
+                ? MostOutweighed(graph, judged.chains, &weighed, changes,
+                                 without, chi2, options.cluster_window, loops)
+                : -1;
+        if (f < 0) break;
+        weighed[f].in = false;
+        weighed[f].put_back = true;
       }
+      challenged = false;
       x = solver.Optimize(active_loops(), ConvergenceOptions{}, nullptr, &x);
     }
     for (Weighed& w : weighed) {
-      if (w.in) continue;
+      if (w.in || w.challenger) continue;
       for (int& k : w.group.loops) k = loops[k];
       std::sort(w.group.loops.begin(), w.group.loops.end());
       out.push_back(std::move(w.group));

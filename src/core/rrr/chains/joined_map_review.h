@@ -16,7 +16,7 @@ namespace rrr {
 struct RefutedGroup {
   int chain = 0;
   std::vector<int> loops;  // indices of the graph's, ascending
-  DecisionReason reason;   // test kJoinedMap
+  DecisionReason reason;   // test kJoinedMap or kOutweighed
 };
 
 // Over each map of `judged` that joins several chains (its estimates that
@@ -29,7 +29,13 @@ struct RefutedGroup {
 // its gate, the one most over it (Δ / gate) is taken out and the map
 // minimized again; while none is, one of those taken out (`refuted` given,
 // or taken out now) whose Δ back in is under its gate, the least over it
-// first, is put back (once each). Returns the groups left out; those of
+// first, is put back (once each). While neither, a cluster that its
+// coalition outweighs is taken out and not put back: the clusters between
+// chains of the map that rule 3 refused (tests kMap, kMapBound) and that
+// would fit without it (to first order, PoseGraphSolver::ChangesOfMinimum's
+// `without`), if two of them are separate evidence, weighed against it as
+// RRR's reversal weighs two clusters (test kOutweighed); the one it
+// outweighs most first. Returns the groups left out; those of
 // `refuted` whose chain is in no joined map now are not among them. With
 // `chains` given (ascending), only the clusters of those chains are weighed
 // (and put back), in the maps that hold them, and only groups of them are

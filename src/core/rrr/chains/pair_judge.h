@@ -4,7 +4,6 @@
 #define RRR_CORE_RRR_CHAINS_PAIR_JUDGE_H_
 
 #include <algorithm>
-#include <array>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -24,6 +23,7 @@
 #include "rrr/solver/maintained_map.h"
 #include "rrr/solver/pose_graph_solver.h"
 #include "rrr/solver/solve_in_parallel.h"
+#include "separate_evidence.h"
 
 namespace rrr {
 
@@ -179,6 +179,14 @@ class PairJudge {
     for (size_t n = 0; n < links.size(); ++n) out[n] = num_inside_ + links[n];
     return out;
   }
+  // Loop indices of graph_ of `links`.
+  std::vector<int> Candidates(const std::vector<int>& links) const {
+    std::vector<int> out(links.size());
+    for (size_t n = 0; n < links.size(); ++n) {
+      out[n] = pair_->candidates[links[n]];
+    }
+    return out;
+  }
 
   // The chains' maps minimized with their loops and `links` from `start`.
   std::vector<Pose> Minimize(const std::vector<int>& links,
@@ -256,41 +264,16 @@ class PairJudge {
     return false;
   }
 
-  // Whether the links `x` and `y` are separate evidence: more than a
-  // clustering window apart on at least one of the chains (a revisit that
-  // the clustering split in two, or one false group, is one piece of
-  // evidence, however many clusters it makes).
-  bool Independent(const std::vector<int>& x, const std::vector<int>& y) const {
-    const auto ranges = [&](const std::vector<int>& links) {
-      std::array<PoseId, 4> r{std::numeric_limits<PoseId>::max(),
-                              std::numeric_limits<PoseId>::min(),
-                              std::numeric_limits<PoseId>::max(),
-                              std::numeric_limits<PoseId>::min()};
-      for (const int k : links) {
-        const auto& e = graph_.loops()[pair_->candidates[k]];
-        for (const int p : {e.from, e.to}) {
-          const int side = second_.Holds(p) ? 2 : 0;
-          r[side] = std::min(r[side], graph_.ids()[p]);
-          r[side + 1] = std::max(r[side + 1], graph_.ids()[p]);
-        }
-      }
-      return r;
-    };
-    const std::array<PoseId, 4> a = ranges(x), b = ranges(y);
-    for (const int side : {0, 2}) {
-      const PoseId gap = std::max(b[side] - a[side + 1], a[side] - b[side + 1]);
-      if (gap > window_) return true;
-    }
-    return false;
-  }
-
   // Rule 2 for `first` and `second`: joins the chains and sets joined_ to
   // the joined map if they agree on one placement of the second chain's
   // map in the first's frame (RigidFit: no bending of either map, which
   // could make far-apart clusters agree by absorbing the difference in
   // their drift).
   void TryJoin(const PairCluster& first, const PairCluster& second) {
-    if (!Independent(first.links, second.links)) return;
+    if (!SeparateEvidence(graph_, second_, Candidates(first.links),
+                          Candidates(second.links), window_)) {
+      return;
+    }
     const std::vector<int> both = Concat(first.links, second.links);
     const int dof = Pose::kDof * (static_cast<int>(both.size()) - 1);
     const double gate = group_scale_ * chi2_(dof);

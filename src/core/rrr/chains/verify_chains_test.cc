@@ -367,6 +367,74 @@ TEST(VerifyChains, AFalseRevisitInsideAChainIsRefutedByTheMapThatJoinsIt) {
   }
 }
 
+// `sessions` with one in `every` kept of its first `*true_loops` loops
+// (which it updates) that are between chains and reach no pose from
+// `before` on, and every other loop.
+PoseGraph<Pose2> ThinnedBetweenChains(const PoseGraph<Pose2>& sessions,
+                                      int before, int every,
+                                      size_t* true_loops) {
+  const std::vector<ChainSpan> chains = ChainSpansOf(sessions);
+  PoseGraph<Pose2> out;
+  for (int p = 0; p < sessions.num_poses(); ++p) {
+    out.AddPose(sessions.ids()[p], sessions.estimates()[p]);
+  }
+  for (const auto& e : sessions.odometry()) out.AddEdge(e);
+  size_t kept = 0;
+  int thinned = 0;
+  for (size_t k = 0; k < sessions.loops().size(); ++k) {
+    const auto& e = sessions.loops()[k];
+    const bool thin =
+        k < *true_loops && std::max(e.from, e.to) < before &&
+        ChainHolding(chains, e.from) != ChainHolding(chains, e.to);
+    if (thin && thinned++ % every != 0) continue;
+    out.AddEdge(e);
+    if (k < *true_loops) ++kept;
+  }
+  *true_loops = kept;
+  return out;
+}
+
+TEST(VerifyChains,
+     SmallRevisitsBetweenChainsTogetherRefuteAFalseRevisitInside) {
+  // As above, with a false revisit of 6 links (poses 900–905 to 1300–1305),
+  // and of the true loops between the sessions that reach only poses before
+  // 1310 (those the revisit moves against the places the sessions are
+  // joined by) one in 2 kept: small clusters, none of which outweighs the
+  // revisit, so rule 3 refuses them against the map it bent, and the
+  // joined map's accepted loops fit it. Together, the refused clusters that
+  // would fit without it outweigh it (rule 5's coalition).
+  const SimulatedWorld world = SimulateWorld(Grid(1600, 4));
+  size_t true_loops = 0;
+  const PoseGraph<Pose2> spoiled = ThinnedBetweenChains(
+      SessionsWithAFalseRevisit(world, {800}, &true_loops, 6), 1310, 2,
+      &true_loops);
+  const PoseGraph<Pose2> cut = CutAt(world.graph, {800});
+  size_t clean_loops = cut.loops().size();
+  const PoseGraph<Pose2> clean =
+      ThinnedBetweenChains(cut, 1310, 2, &clean_loops);
+  ASSERT_EQ(clean_loops, true_loops);
+  std::vector<int> inside;
+  const Verdict alone = JudgedAlone(spoiled, ChainSpansOf(spoiled)[1], &inside);
+  ASSERT_GT(std::count_if(alone.accepted.begin(), alone.accepted.end(),
+                          [&](int k) {
+                            return static_cast<size_t>(inside[k]) >= true_loops;
+                          }),
+            0);
+
+  const ChainsVerdict<Pose2> v = VerifyChains(spoiled, ChainWorldOptions());
+  ASSERT_EQ(v.map_of_chain, std::vector<int>(2, 0));
+  for (size_t k = true_loops; k < spoiled.loops().size(); ++k) {
+    EXPECT_THAT(v.verdict.rejected, ::testing::Contains(k));
+    const DecisionReason& r = v.verdict.reasons[k];
+    EXPECT_THAT(r.test, ::testing::AnyOf(DecisionTest::kJoinedMap,
+                                         DecisionTest::kOutweighed));
+    EXPECT_GT(r.statistic, r.gate);
+  }
+  // The sessions keep the true loops they keep without the false revisit.
+  const ChainsVerdict<Pose2> without = VerifyChains(clean, ChainWorldOptions());
+  EXPECT_EQ(v.verdict.accepted, without.verdict.accepted);
+}
+
 TEST(VerifyChains, OneChainIsJudgedAsTheMapProcedureJudgesIt) {
   WorldOptions world_options = Grid(500, 11);
   world_options.false_loops = 20;
