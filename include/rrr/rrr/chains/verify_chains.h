@@ -91,8 +91,8 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     clusters is taken out (test "outweighed"), the one most outweighed
 //     first, while no other is. If any stays out, its chain is judged
 //     alone again without it (what it had bent is judged afresh) and rules
-//     1–5 run again, until they refute the same loops as before. Rule 5 also weighs
-//     a chain's clusters in the map it is first joined to, while pairs
+//     1–5 run again, until they refute the same loops as before. Rule 5 also
+//     weighs a chain's clusters in the map it is first joined to, while pairs
 //     remain to be judged: a cluster it refutes there starts the next round
 //     at once, so the pairs left are not judged against the map it bent.
 // Gates use the larger of the two chains' final noise scales (group scale
