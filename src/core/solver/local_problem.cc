@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -324,12 +325,17 @@ bool LocalProblem<Pose>::ChangesOfMinimum(
                            ? change
                            : std::numeric_limits<double>::infinity());
     if (without) {
-      terms.push_back(
-          {r, blocks, jt.topRows(static_cast<int>(blocks.size()) * D), s, in});
+      Terms t;
+      t.r = r;
+      t.blocks = blocks;
+      t.jt = jt.topRows(static_cast<int>(blocks.size()) * D);
+      t.s = s;
+      t.in = in;
       if (in && s.isPositive()) {
-        terms.back().y = s.solve(r);
-        terms.back().energy = terms.back().y.dot(form * terms.back().y);
+        t.y = s.solve(r);
+        t.energy = t.y.dot(form * t.y);
       }
+      terms.push_back(std::move(t));
     }
   }
   if (!without) return true;

@@ -74,6 +74,9 @@ int MostOutweighed(const PoseGraph<Pose>& graph,
       scale = std::max(scale, w.group.reason.scale);
       links += static_cast<int>(w.group.loops.size());
     }
+    if (coalition.size() < 2) continue;
+    std::vector<std::vector<int>> members;
+    for (const int g : coalition) members.push_back(loops_of((*weighed)[g]));
     bool separate = false;
     for (size_t i = 0; i < coalition.size() && !separate; ++i) {
       for (size_t j = i + 1; j < coalition.size() && !separate; ++j) {
@@ -81,8 +84,8 @@ int MostOutweighed(const PoseGraph<Pose>& graph,
         const Weighed& b = (*weighed)[coalition[j]];
         separate = a.group.chain != b.group.chain ||
                    a.second_chain != b.second_chain ||
-                   SeparateEvidence(graph, chains[a.second_chain], loops_of(a),
-                                    loops_of(b), window);
+                   SeparateEvidence(graph, chains[a.second_chain], members[i],
+                                    members[j], window);
       }
     }
     if (!separate) continue;
@@ -179,8 +182,16 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
       const int cluster = judged.verdict.cluster_of_loop[k];
       const auto [at, added] = challenger_of_cluster.emplace(
           cluster, static_cast<int>(weighed.size()));
-      if (added)
-        weighed.push_back({{a, {}, {}}, false, true, true, b, cluster});
+      if (added) {
+        Weighed challenger;
+        challenger.group.chain = a;
+        challenger.in = false;
+        challenger.put_back = true;  // never put in
+        challenger.challenger = true;
+        challenger.second_chain = b;
+        challenger.cluster = cluster;
+        weighed.push_back(std::move(challenger));
+      }
       weighed[at->second].group.loops.push_back(static_cast<int>(loops.size()));
       loops.push_back(k);
     }
@@ -257,7 +268,7 @@ std::vector<RefutedGroup> ReviewJoinedMaps(
       } else if (best >= 0) {
         weighed[best].in = true;
         weighed[best].put_back = true;
-      } else if (!challenged && own < weighed.size()) {
+      } else if (!challenged && own > 0 && own < weighed.size()) {
         // Nothing left to take out or put back: the coalitions, at this x.
         challenged = true;
         continue;
