@@ -76,6 +76,7 @@ int MostOutweighed(const PoseGraph<Pose>& graph,
     }
     if (coalition.size() < 2) continue;
     std::vector<std::vector<int>> members;
+    members.reserve(coalition.size());
     for (const int g : coalition) members.push_back(loops_of((*weighed)[g]));
     bool separate = false;
     for (size_t i = 0; i < coalition.size() && !separate; ++i) {
