@@ -11,6 +11,12 @@
 
 namespace rrr {
 
+// A block pattern by column: the rows of column c are
+// row[start[c] .. start[c + 1]), ascending and distinct.
+struct BlockPattern {
+  std::vector<int> start, row;
+};
+
 // The matrix has `num_blocks` × `num_blocks` blocks of size D × D: all
 // diagonal blocks and the off-diagonal blocks given at construction. The
 // sparsity pattern is analysed once, at construction: a fill-reducing block
@@ -69,8 +75,10 @@ class BlockCholesky {
     int start[D];
   };
   std::vector<Slot> slots_;  // slot p < num_blocks is diagonal position p
-  // Per permuted block column: (permuted block row, slot), rows ascending.
-  std::vector<std::vector<std::pair<int, int>>> slot_by_col_;
+  // The stored upper block pattern (permuted numbering) and the slot of
+  // each of its entries.
+  BlockPattern stored_;
+  std::vector<int> slot_;
   Eigen::VectorXd rhs_;  // right-hand side in permuted order
   std::unique_ptr<cholmod_common> common_;
   cholmod_sparse* matrix_ = nullptr;

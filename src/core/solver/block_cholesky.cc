@@ -21,33 +21,73 @@ std::unique_lock<std::mutex> LockBlasFor(const cholmod_factor* factor) {
                           : std::unique_lock<std::mutex>();
 }
 
-// A fill-reducing ordering of the block pattern (upper triangle given per
-// column); returns position[block].
-std::vector<int> BlockOrdering(
-    const std::vector<std::vector<std::pair<int, int>>>& upper_by_col,
-    cholmod_common* common) {
-  const size_t n = upper_by_col.size();
-  size_t nnz = 0;
-  for (const auto& col : upper_by_col) nnz += col.size();
-  cholmod_sparse* pattern = cholmod_allocate_sparse(
-      n, n, nnz, 1, 1, /*stype=*/1, CHOLMOD_PATTERN, common);
-  if (!pattern) throw std::runtime_error("CHOLMOD could not allocate pattern");
-  auto* colptr = static_cast<int*>(pattern->p);
-  auto* rowind = static_cast<int*>(pattern->i);
-  int p = 0;
-  for (size_t c = 0; c < n; ++c) {
-    colptr[c] = p;
-    for (const auto& entry : upper_by_col[c]) rowind[p++] = entry.first;
+// The upper triangle, diagonal included, of the symmetric block pattern of
+// `num_blocks` blocks with the off-diagonal pairs `pairs`, each block b
+// renumbered place[b] (unchanged if `place` is empty).
+BlockPattern UpperPattern(int num_blocks,
+                          const std::vector<std::pair<int, int>>& pairs,
+                          const std::vector<int>& place) {
+  const auto at = [&place](int b) { return place.empty() ? b : place[b]; };
+  BlockPattern upper;
+  upper.start.assign(num_blocks + 1, 0);
+  for (int b = 0; b < num_blocks; ++b) ++upper.start[b + 1];
+  for (const auto& [a, b] : pairs) ++upper.start[std::max(at(a), at(b)) + 1];
+  for (int c = 0; c < num_blocks; ++c) upper.start[c + 1] += upper.start[c];
+  std::vector<int> fill(upper.start.begin(), upper.start.end() - 1);
+  upper.row.resize(upper.start[num_blocks]);
+  for (int b = 0; b < num_blocks; ++b) upper.row[fill[at(b)]++] = at(b);
+  for (const auto& [a, b] : pairs) {
+    upper.row[fill[std::max(at(a), at(b))]++] = std::min(at(a), at(b));
   }
-  colptr[n] = p;
+  // Each column sorted, repeats dropped, the columns closed up.
+  int kept = 0;
+  for (int c = 0; c < num_blocks; ++c) {
+    const auto first = upper.row.begin() + upper.start[c];
+    const auto last = upper.row.begin() + upper.start[c + 1];
+    std::sort(first, last);
+    const auto end = std::unique(first, last);
+    const auto to = upper.row.begin() + kept;
+    if (to != first) std::copy(first, end, to);  // to is before first
+    upper.start[c] = kept;
+    kept += static_cast<int>(end - first);
+  }
+  upper.start[num_blocks] = kept;
+  upper.row.resize(kept);
+  return upper;
+}
+
+// A fill-reducing ordering of a block pattern and the structure of its
+// factor in that order.
+struct BlockAnalysis {
+  std::vector<int> position;  // position[block]: its place in the order
+  std::vector<int> count;     // count[k]: block rows of the factor's column k
+};
+
+// Orders the block pattern `upper` (upper triangle with the diagonal) with
+// CHOLMOD's default (AMD, postordered) and counts its factor's columns.
+BlockAnalysis AnalyzeBlocks(const BlockPattern& upper, cholmod_common* common) {
+  const size_t n = upper.start.size() - 1;
+  cholmod_sparse* pattern = cholmod_allocate_sparse(
+      n, n, upper.row.size(), 1, 1, /*stype=*/1, CHOLMOD_PATTERN, common);
+  if (!pattern) throw std::runtime_error("CHOLMOD could not allocate pattern");
+  std::copy(upper.start.begin(), upper.start.end(),
+            static_cast<int*>(pattern->p));
+  std::copy(upper.row.begin(), upper.row.end(), static_cast<int*>(pattern->i));
+  // Only the ordering and the column counts are wanted, never a supernodal
+  // structure of the block pattern.
+  common->supernodal = CHOLMOD_SIMPLICIAL;
   cholmod_factor* symbolic = cholmod_analyze(pattern, common);
   if (!symbolic) throw std::runtime_error("CHOLMOD ordering failed");
-  std::vector<int> position(n);
+  BlockAnalysis analysis{std::vector<int>(n), std::vector<int>(n)};
   const auto* perm = static_cast<const int*>(symbolic->Perm);
-  for (size_t k = 0; k < n; ++k) position[perm[k]] = static_cast<int>(k);
+  const auto* count = static_cast<const int*>(symbolic->ColCount);
+  for (size_t k = 0; k < n; ++k) {
+    analysis.position[perm[k]] = static_cast<int>(k);
+    analysis.count[k] = count[k];
+  }
   cholmod_free_factor(&symbolic, common);
   cholmod_free_sparse(&pattern, common);
-  return position;
+  return analysis;
 }
 
 }  // namespace
@@ -59,43 +99,28 @@ BlockCholesky<D>::BlockCholesky(
   cholmod_start(common_.get());
   common_->print = 0;
 
-  // Upper-triangular block pattern in the user's block numbering.
-  std::vector<std::vector<std::pair<int, int>>> by_col(num_blocks);
-  for (int b = 0; b < num_blocks; ++b) by_col[b].emplace_back(b, b);
-  for (const auto& [a, b] : off_diagonal) {
-    by_col[std::max(a, b)].emplace_back(std::min(a, b), -1);
-  }
-  for (auto& col : by_col) {
-    std::sort(col.begin(), col.end());
-    col.erase(std::unique(col.begin(), col.end()), col.end());
-  }
   // Order the blocks once; the matrix is stored permuted, so every numeric
   // factorization runs in natural order without copying the matrix.
-  position_ = BlockOrdering(by_col, common_.get());
-  slot_by_col_.assign(num_blocks, {});
-  for (int c = 0; c < num_blocks; ++c) {
-    for (const auto& entry : by_col[c]) {
-      const int pr = position_[entry.first], pc = position_[c];
-      slot_by_col_[std::max(pr, pc)].emplace_back(std::min(pr, pc), -1);
-    }
-  }
-  int num_slots = 0;
-  for (auto& col : slot_by_col_) {
-    std::sort(col.begin(), col.end());
-    num_slots += static_cast<int>(col.size());
-  }
-  slots_.resize(num_slots);
+  const BlockAnalysis blocks =
+      AnalyzeBlocks(UpperPattern(num_blocks, off_diagonal, {}), common_.get());
+  position_ = blocks.position;
+  stored_ = UpperPattern(num_blocks, off_diagonal, position_);
   // Diagonal blocks take slots 0..num_blocks-1 (by permuted position), the
   // rest follow.
+  slot_.resize(stored_.row.size());
+  slots_.resize(stored_.row.size());
   int next = num_blocks;
   for (int c = 0; c < num_blocks; ++c) {
-    for (auto& [r, slot] : slot_by_col_[c]) slot = (r == c) ? c : next++;
+    for (int e = stored_.start[c]; e < stored_.start[c + 1]; ++e) {
+      slot_[e] = stored_.row[e] == c ? c : next++;
+    }
   }
 
   const size_t n = static_cast<size_t>(num_blocks) * D;
   size_t nnz = 0;
   for (int c = 0; c < num_blocks; ++c) {
-    nnz += (slot_by_col_[c].size() - 1) * D * D + D * (D + 1) / 2;
+    nnz +=
+        (stored_.start[c + 1] - stored_.start[c] - 1) * D * D + D * (D + 1) / 2;
   }
   matrix_ = cholmod_allocate_sparse(n, n, nnz, /*sorted=*/1, /*packed=*/1,
                                     /*stype=*/1, CHOLMOD_REAL, common_.get());
@@ -106,7 +131,9 @@ BlockCholesky<D>::BlockCholesky(
   for (int c = 0; c < num_blocks; ++c) {
     for (int k = 0; k < D; ++k) {
       colptr[c * D + k] = p;
-      for (const auto& [r, slot] : slot_by_col_[c]) {
+      for (int e = stored_.start[c]; e < stored_.start[c + 1]; ++e) {
+        const int r = stored_.row[e];
+        const int slot = slot_[e];
         slots_[slot].row = r;
         slots_[slot].col = c;
         slots_[slot].start[k] = p;
@@ -116,7 +143,13 @@ BlockCholesky<D>::BlockCholesky(
     }
   }
   colptr[n] = p;
-  // Symbolic factorization in the stored (already reduced-fill) order.
+  // Symbolic factorization in the stored (already reduced-fill) order. With
+  // dense blocks the factor is block-dense on the block factor's pattern:
+  // block column k of c block rows gives D scalar columns of D·(c − 1) + D − a
+  // rows (a = 0 .. D − 1), the counts CHOLMOD's analysis of the scalar
+  // pattern finds. They decide simplicial or supernodal as that analysis
+  // does (flops Σ count² per nonzero Σ count); a simplicial factor needs
+  // nothing more, so only a supernodal one is analysed again.
   common_->nmethods = 1;
   common_->method[0].ordering = CHOLMOD_NATURAL;
   common_->postorder = 0;
@@ -138,7 +171,24 @@ BlockCholesky<D>::BlockCholesky(
   common_->zrelax[2] = 0.2;
   SetZero();
   for (int b = 0; b < num_blocks; ++b) SetDiagonal(b, Block::Identity());
-  factor_ = cholmod_analyze(matrix_, common_.get());
+  std::vector<int> count(n);
+  double flops = 0.0, entries = 0.0;
+  for (int k = 0; k < num_blocks; ++k) {
+    for (int a = 0; a < D; ++a) {
+      count[k * D + a] = D * (blocks.count[k] - 1) + D - a;
+      flops += static_cast<double>(count[k * D + a]) * count[k * D + a];
+      entries += count[k * D + a];
+    }
+  }
+  if (entries > 0.0 && flops / entries >= common_->supernodal_switch) {
+    factor_ = cholmod_analyze(matrix_, common_.get());
+  } else {
+    factor_ = cholmod_allocate_factor(n, common_.get());
+    if (factor_) {
+      std::copy(count.begin(), count.end(),
+                static_cast<int*>(factor_->ColCount));
+    }
+  }
   if (!factor_) throw std::runtime_error("CHOLMOD analysis failed");
   rhs_ = Eigen::VectorXd(n);
 }
@@ -154,13 +204,13 @@ template <int D>
 int BlockCholesky<D>::OffDiagonalSlot(int r, int c) const {
   const int pr = position_.at(r), pc = position_.at(c);
   const int row = std::min(pr, pc), col = std::max(pr, pc);
-  const auto& entries = slot_by_col_.at(col);
-  const auto it =
-      std::lower_bound(entries.begin(), entries.end(), std::make_pair(row, -1));
-  if (row == col || it == entries.end() || it->first != row) {
+  const auto begin = stored_.row.begin() + stored_.start[col];
+  const auto end = stored_.row.begin() + stored_.start[col + 1];
+  const auto it = std::lower_bound(begin, end, row);
+  if (row == col || it == end || *it != row) {
     throw std::out_of_range("block not in the sparsity pattern");
   }
-  return it->second;
+  return slot_[it - stored_.row.begin()];
 }
 
 template <int D>
