@@ -189,6 +189,8 @@ class MaintainedMap {
   };
   std::unique_ptr<KeptTrial> last_trial_;
   std::vector<bool> in_map_;  // by graph loop index
+  // Minimize's local index of each pose of its problem, -1 for the others.
+  std::vector<int> local_;
   int num_loops_ = 0;
 };
 

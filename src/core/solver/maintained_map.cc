@@ -3,7 +3,6 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <stdexcept>
-#include <unordered_map>
 #include <utility>
 
 #include "rrr/geometry/pose2.h"
@@ -197,22 +196,35 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
                                        std::vector<Pose>* relaxed,
                                        double fails_above) {
   // Local indices: the region first (ascending), then the junctions it
-  // borders in the order the edges reach them.
+  // borders in the order the edges reach them (local_, cleared on return).
   std::vector<typename Junctions::iterator> at(region.size());
   for (size_t k = 0; k < region.size(); ++k) {
-    at[k] = junctions_.find(region[k]);
+    const auto next = k > 0 ? std::next(at[k - 1]) : junctions_.end();
+    at[k] = next != junctions_.end() && next->first == region[k]
+                ? next
+                : junctions_.find(region[k]);
   }
-  std::unordered_map<int, int> border;
+  if (local_.size() < static_cast<size_t>(graph_.num_poses())) {
+    local_.resize(graph_.num_poses(), -1);
+  }
   std::vector<int> poses = region;
-  const auto index = [&](int pose) {
-    const auto in = std::lower_bound(region.begin(), region.end(), pose);
-    if (in != region.end() && *in == pose) {
-      return static_cast<int>(in - region.begin());
+  const struct Clear {
+    std::vector<int>* local;
+    const std::vector<int>* poses;
+    ~Clear() {
+      for (const int p : *poses) (*local)[p] = -1;
     }
-    const auto [it, added] =
-        border.emplace(pose, static_cast<int>(poses.size()));
-    if (added) poses.push_back(pose);
-    return it->second;
+  } clear{&local_, &poses};
+  for (size_t k = 0; k < region.size(); ++k) {
+    local_[region[k]] = static_cast<int>(k);
+  }
+  const auto index = [&](int pose) {
+    int& local = local_[pose];
+    if (local < 0) {
+      local = static_cast<int>(poses.size());
+      poses.push_back(pose);
+    }
+    return local;
   };
   std::vector<Constraint<Pose>> edges;
   std::vector<int> map_loops;
@@ -228,7 +240,8 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
     }
     if (it != junctions_.begin() && SameChain(std::prev(it)->first, p)) {
       const auto before = std::prev(it);
-      if (!std::binary_search(region.begin(), region.end(), before->first)) {
+      const int local = local_[before->first];
+      if (local < 0 || local >= static_cast<int>(region.size())) {
         Constraint<Pose> e = ToNext(before);
         e.from = index(before->first);
         e.to = index(p);
