@@ -78,8 +78,9 @@ class MaintainedMap {
   double LoopChi2(int loop) const;
   // The estimate of pose `pose`.
   Pose Estimate(int pose) const;
-  // The estimate of every pose of the graph.
-  std::vector<Pose> Estimates() const;
+  // The estimate of every pose of the graph, up to `threads` poses at a time
+  // (the same estimates whatever their number).
+  std::vector<Pose> Estimates(int threads = 1) const;
 
   // What adding `loops` (not in the map) would do. The region is first
   // minimized without them, and that improvement of the estimate is kept;

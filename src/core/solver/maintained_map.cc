@@ -2,12 +2,14 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 #include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/solver/edge_error.h"
+#include "rrr/solver/solve_in_parallel.h"
 
 namespace rrr {
 namespace {
@@ -114,9 +116,18 @@ Pose MaintainedMap<Pose>::Estimate(int pose) const {
 }
 
 template <class Pose>
-std::vector<Pose> MaintainedMap<Pose>::Estimates() const {
-  std::vector<Pose> x(graph_.num_poses());
-  for (int p = 0; p < graph_.num_poses(); ++p) x[p] = Estimate(p);
+std::vector<Pose> MaintainedMap<Pose>::Estimates(int threads) const {
+  const std::int64_t n = graph_.num_poses();
+  std::vector<Pose> x(n);
+  // Contiguous ranges of poses, a few per thread; each estimate is its own.
+  const std::int64_t ranges = std::min<std::int64_t>(n, 4 * threads);
+  ForEachInParallel(ranges, threads, [&](size_t r) {
+    const std::int64_t range = static_cast<std::int64_t>(r);
+    for (std::int64_t p = n * range / ranges; p < n * (range + 1) / ranges;
+         ++p) {
+      x[p] = Estimate(static_cast<int>(p));
+    }
+  });
   return x;
 }
 

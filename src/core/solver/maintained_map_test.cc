@@ -277,6 +277,14 @@ TYPED_TEST(MaintainedMapTest, EstimatesAreNearTheWholeGraphsOptimum) {
         worst, (estimates[k].translation() - optimum[k].translation()).norm());
   }
   EXPECT_LT(worst, 0.25);
+  // Poses estimated side by side are estimated as one after another.
+  for (const int threads : {2, 3}) {
+    const std::vector<TypeParam> side_by_side = map.Estimates(threads);
+    ASSERT_EQ(side_by_side.size(), estimates.size());
+    for (size_t k = 0; k < estimates.size(); ++k) {
+      EXPECT_EQ(side_by_side[k].parts(), estimates[k].parts()) << k;
+    }
+  }
 }
 
 TYPED_TEST(MaintainedMapTest, ChainsAreRelatedByTheirLoopsAlone) {

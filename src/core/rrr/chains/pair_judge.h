@@ -373,7 +373,7 @@ class PairJudge {
       open[next] = false;
       --left;
     }
-    joined_ = map.Estimates();
+    joined_ = map.Estimates(threads_);
   }
 
   // A lower bound of what `links` would bring to the joined map, at its

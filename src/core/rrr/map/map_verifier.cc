@@ -223,7 +223,7 @@ template <class Pose>
 std::vector<Pose> MapVerifier<Pose>::Map() {
   Catch(this->graph().num_poses() - 1);
   if (!map_) return {};
-  return map_->Estimates();
+  return map_->Estimates(options_.threads);
 }
 
 template <class Pose>
