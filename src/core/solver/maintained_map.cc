@@ -120,8 +120,9 @@ std::vector<Pose> MaintainedMap<Pose>::Estimates(int threads) const {
   const std::int64_t n = graph_.num_poses();
   std::vector<Pose> x(n);
   // Contiguous ranges of poses, a few per thread; each estimate is its own.
-  const std::int64_t ranges = std::min<std::int64_t>(n, 4 * threads);
-  ForEachInParallel(ranges, threads, [&](size_t r) {
+  const int workers = std::max(threads, 1);
+  const std::int64_t ranges = std::min<std::int64_t>(n, 4LL * workers);
+  ForEachInParallel(ranges, workers, [&](size_t r) {
     const std::int64_t range = static_cast<std::int64_t>(r);
     for (std::int64_t p = n * range / ranges; p < n * (range + 1) / ranges;
          ++p) {
