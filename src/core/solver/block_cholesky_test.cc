@@ -123,6 +123,12 @@ TEST(BlockCholesky, RefusesASingularMatrix) {
   EXPECT_FALSE(system.Solve(Eigen::VectorXd::Ones(9), &x));
 }
 
+TEST(BlockCholesky, IsBuiltForAProblemWithNothingFree) {
+  const BlockCholesky<3> system(0, {});
+  EXPECT_EQ(system.num_blocks(), 0);
+  EXPECT_THROW(system.OffDiagonalSlot(0, 1), std::out_of_range);
+}
+
 TEST(BlockCholesky, NamesOnlyThePairsOfItsPattern) {
   const BlockCholesky<3> system(4, {{0, 1}, {3, 1}, {1, 0}});
   EXPECT_EQ(system.OffDiagonalSlot(0, 1), system.OffDiagonalSlot(1, 0));
