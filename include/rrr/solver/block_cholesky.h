@@ -49,12 +49,15 @@ class BlockCholesky {
   // A(r, c) += m and A(c, r) += mᵀ for the slot of (r, c) in that order.
   void AddOffDiagonal(int slot, int r, int c, const Block& m);
 
-  // Solves A x = rhs. Returns false if A is not positive definite.
+  // Solves A x = rhs. Returns false if A is singular (a zero pivot) or, for
+  // a supernodal factor, not positive definite. A simplicial factor is
+  // LDLᵀ, which does not refuse an indefinite A: callers' matrices are
+  // Gauss–Newton ones (JᵀΣ⁻¹J plus damping), never indefinite.
   bool Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x);
   // As Solve, with the last successful Factorize().
   bool SolveFactorized(const Eigen::VectorXd& rhs, Eigen::VectorXd* x);
 
-  // Factorizes A as it is now. Returns false if A is not positive definite.
+  // Factorizes A as it is now. Returns false as Solve does.
   bool Factorize();
   // Bᵀ A⁻¹ B at the last successful Factorize(), for B zero but in the
   // block rows `blocks` (distinct), where it is `b`: rows D·i .. D·i+D−1 of
