@@ -36,7 +36,10 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     held to its own consistency (the links minimized with both chains'
 //     maps, the chains' relative pose free: the error they bring, against
 //     the gate of e·(n−1) dof; the worst link goes while what it brings
-//     exceeds one link's gate).
+//     exceeds one link's gate). The links that went are refused once the
+//     links kept are accepted; if those are refused (here, or against the
+//     joined map by rule 3), the links that went are judged next as a
+//     cluster of their own.
 //  2. Two chains are joined only by two independent clusters that agree
 //     (more than a clustering window apart on one chain at least: a revisit
 //     the clustering split, or one false group, is one piece of evidence):

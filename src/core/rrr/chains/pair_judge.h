@@ -81,7 +81,7 @@ class PairJudge {
         verdict->cluster_of_loop[pair->candidates[k]] = index;
       }
       verdict->clusters.push_back(global);
-      clusters_.push_back({index, c.loops});
+      clusters_.push_back({index, c.loops, {}});
     }
   }
 
@@ -107,21 +107,21 @@ class PairJudge {
       joined_ = Minimize({}, pair_graph_.estimates());
     }
     // Rule 3: the other clusters against the joined map; or none, apart.
-    std::vector<std::vector<int>> rest;
-    for (const PairCluster& c : clusters_) {
-      std::vector<int> open;
-      for (const int k : c.links) {
-        if (!Decided(k)) open.push_back(k);
-      }
-      if (!open.empty()) rest.push_back(open);
+    std::vector<size_t> rest;
+    for (size_t c = 0; c < clusters_.size(); ++c) {
+      if (!Open(clusters_[c]).empty()) rest.push_back(c);
     }
     if (!pair_->joined) {
-      for (const auto& links : rest) {
-        for (const int k : links) Decide(k, false, {DecisionTest::kApart});
+      for (const size_t c : rest) {
+        for (const int k : Open(clusters_[c])) {
+          Decide(k, false, {DecisionTest::kApart});
+        }
       }
+      RefuseLeftOut();
       return;
     }
     JudgeAgainstJoined(rest);
+    RefuseLeftOut();
     // Joined through others, the pair's own loops join it if any is kept.
     if (one_map) pair_->joined = !pair_->accepted.empty();
     if (!one_map) {
@@ -134,6 +134,10 @@ class PairJudge {
   struct PairCluster {
     int index;               // into verdict_->clusters
     std::vector<int> links;  // indices into pair_->candidates, kept so far
+    // The links rule 1 took out one at a time, with their reasons: refused
+    // only once the kept links are accepted; if those are refused, they are
+    // judged again as a cluster of their own (TakeOutRefused).
+    std::vector<std::pair<int, DecisionReason>> left_out;
   };
 
   // Rule 1: the clusters of at least two links that agree with themselves,
@@ -253,15 +257,36 @@ class PairJudge {
           Decide(k, false,
                  {DecisionTest::kOwn, brought, gate, group_scale_, dof});
         }
-        c->links.clear();
-        return false;
+        return LeftOutAgree(c);
       }
-      Decide(c->links[worst], false,
-             {DecisionTest::kOwnLink, most, link_gate, group_scale_, e});
+      c->left_out.push_back(
+          {c->links[worst],
+           {DecisionTest::kOwnLink, most, link_gate, group_scale_, e}});
       c->links.erase(c->links.begin() + worst);
       brought = without_most;
     }
     return false;
+  }
+
+  // Once the kept links of cluster `c` are refused: the links rule 1 took
+  // out of it, one at a time, become its links and are judged by rule 1
+  // again (taking out links one at a time can keep the wrong side of a
+  // cluster that mixes two groups). Returns whether links that agree remain
+  // (at least two).
+  bool LeftOutAgree(PairCluster* c) {
+    c->links.clear();
+    for (const auto& taken : c->left_out) c->links.push_back(taken.first);
+    c->left_out.clear();
+    return c->links.size() >= 2 && KeepAgreeing(c);
+  }
+
+  // Refuses, with the reasons rule 1 gave, the links it took out of
+  // clusters whose kept links were not refused.
+  void RefuseLeftOut() {
+    for (PairCluster& c : clusters_) {
+      for (const auto& [k, reason] : c.left_out) Decide(k, false, reason);
+      c.left_out.clear();
+    }
   }
 
   // Rule 2 for `first` and `second`: joins the chains and sets joined_ to
@@ -305,7 +330,15 @@ class PairJudge {
   // refused (by the lower bound or its trial) only there, the whole map
   // minimized first if it took links since; and so on until every cluster
   // is decided. joined_ is then the map's estimate.
-  void JudgeAgainstJoined(const std::vector<std::vector<int>>& rest) {
+  //
+  // `clusters` indexes clusters_; a cluster's links are its open ones.
+  // When a cluster is refused, the links rule 1 took out of it are judged
+  // next (LeftOutAgree), if any.
+  void JudgeAgainstJoined(const std::vector<size_t>& clusters) {
+    std::vector<std::vector<int>> rest;
+    rest.reserve(clusters.size());
+    for (const size_t c : clusters) rest.push_back(Open(clusters_[c]));
+    std::vector<size_t> cluster_of = clusters;
     MaintainedMap<Pose> map(pair_graph_, spans_, odometry_, convergence_,
                             most_junctions_);
     map.AddAt(Active(in_map_), joined_);
@@ -369,6 +402,17 @@ class PairJudge {
           reason.statistic = trial.increase;
         }
         for (const int k : rest[next]) Decide(k, false, reason);
+        PairCluster& refused = clusters_[cluster_of[next]];
+        if (!refused.left_out.empty()) {
+          LeftOutAgree(&refused);
+          std::vector<int> links = Open(refused);
+          if (!links.empty()) {
+            rest.push_back(std::move(links));
+            cluster_of.push_back(cluster_of[next]);
+            open.push_back(true);
+            ++left;
+          }
+        }
       }
       open[next] = false;
       --left;
@@ -408,6 +452,14 @@ class PairJudge {
   }
 
   bool Decided(int k) const { return decided_.count(k) > 0; }
+  // The links of `c` not decided yet.
+  std::vector<int> Open(const PairCluster& c) const {
+    std::vector<int> open;
+    for (const int k : c.links) {
+      if (!Decided(k)) open.push_back(k);
+    }
+    return open;
+  }
   void Decide(int k, bool accept, DecisionReason reason) {
     decided_[k] = accept;
     const int loop = pair_->candidates[k];
