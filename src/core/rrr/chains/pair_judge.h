@@ -136,7 +136,7 @@ class PairJudge {
     std::vector<int> links;  // indices into pair_->candidates, kept so far
     // The links rule 1 took out one at a time, with their reasons: refused
     // only once the kept links are accepted; if those are refused, they are
-    // judged again as a cluster of their own (TakeOutRefused).
+    // judged again as a cluster of their own (LeftOutAgree).
     std::vector<std::pair<int, DecisionReason>> left_out;
   };
 
@@ -280,8 +280,9 @@ class PairJudge {
     return c->links.size() >= 2 && KeepAgreeing(c);
   }
 
-  // Refuses, with the reasons rule 1 gave, the links it took out of
-  // clusters whose kept links were not refused.
+  // Refuses, with the reasons rule 1 gave, the links it took out that are
+  // still to be judged: their cluster's kept links were accepted, or the
+  // chains stay apart.
   void RefuseLeftOut() {
     for (PairCluster& c : clusters_) {
       for (const auto& [k, reason] : c.left_out) Decide(k, false, reason);
