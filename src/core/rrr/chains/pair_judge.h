@@ -10,11 +10,11 @@
 #include <utility>
 #include <vector>
 
+#include "own_agreement.h"
 #include "path_bound.h"
 #include "rigid_fit.h"
 #include "rrr/graph/chain_spans.h"
 #include "rrr/graph/pose_graph.h"
-#include "rrr/io/g2o.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/clustering.h"
 #include "rrr/rrr/options.h"
@@ -22,7 +22,6 @@
 #include "rrr/solver/chain_maps.h"
 #include "rrr/solver/maintained_map.h"
 #include "rrr/solver/pose_graph_solver.h"
-#include "rrr/solver/solve_in_parallel.h"
 #include "separate_evidence.h"
 
 namespace rrr {
@@ -65,6 +64,8 @@ class PairJudge {
         threads_(options.threads),
         group_scale_(group_scale),
         map_scale_(map_scale),
+        own_(graph, estimates_, second_, pair->candidates, chi2_, group_scale,
+             options.threads),
         verdict_(verdict) {
     Clustering clustering(options.cluster_window);
     const auto& ids = graph.ids();
@@ -131,21 +132,14 @@ class PairJudge {
   }
 
  private:
-  struct PairCluster {
-    int index;               // into verdict_->clusters
-    std::vector<int> links;  // indices into pair_->candidates, kept so far
-    // The links rule 1 took out one at a time, with their reasons: refused
-    // only once the kept links are accepted; if those are refused, they are
-    // judged again as a cluster of their own (LeftOutAgree).
-    std::vector<std::pair<int, DecisionReason>> left_out;
-  };
-
   // Rule 1: the clusters of at least two links that agree with themselves,
   // largest first.
   std::vector<const PairCluster*> Agreeing() {
     std::vector<const PairCluster*> agreeing;
     for (PairCluster& c : clusters_) {
-      if (c.links.size() >= 2 && KeepAgreeing(&c)) agreeing.push_back(&c);
+      if (c.links.size() >= 2 && own_.Keep(&c, Refusal())) {
+        agreeing.push_back(&c);
+      }
     }
     std::stable_sort(agreeing.begin(), agreeing.end(),
                      [](const PairCluster* x, const PairCluster* y) {
@@ -198,86 +192,6 @@ class PairJudge {
     MinimizeResult result;
     return solver_.Optimize(Active(links), ConvergenceOptions{}, &result,
                             &start);
-  }
-
-  // The minimal error of `links` with the odometry alone: the stretches of
-  // both chains between their ends, the relative pose free.
-  double OwnError(const std::vector<int>& links) const {
-    ChainSpan a{graph_.num_poses(), -1}, b = a;
-    std::vector<int> loops;
-    for (const int k : links) {
-      loops.push_back(pair_->candidates[k]);
-      const auto& e = graph_.loops()[loops.back()];
-      for (const int p : {e.from, e.to}) {
-        ChainSpan& span = second_.Holds(p) ? b : a;
-        span.first = std::min(span.first, p);
-        span.last = std::max(span.last, p);
-      }
-    }
-    const PoseGraph<Pose> own = SubGraph(graph_, {a, b}, estimates_, loops);
-    const PoseGraphSolver<Pose> solver(own, 1);
-    const std::vector<Pose> start =
-        PlacedBy(own.loops().front(), a.size(), solver.initial());
-    MinimizeResult result;
-    solver.Optimize(AllLoops(own), ConvergenceOptions{}, &result, &start);
-    return result.final_chi2;
-  }
-
-  // Rule 1 for cluster `c`; returns whether links that agree remain (at
-  // least two).
-  bool KeepAgreeing(PairCluster* c) {
-    const int e = Pose::kDof;
-    double brought = OwnError(c->links);
-    while (c->links.size() >= 2) {
-      const int dof = e * (static_cast<int>(c->links.size()) - 1);
-      const double gate = group_scale_ * chi2_(dof);
-      if (brought < gate) return true;
-      // The link that brings most: the error with it minus without it (the
-      // errors without each link solved side by side).
-      std::vector<double> without(c->links.size(), 0.0);
-      if (c->links.size() > 2) {
-        ForEachInParallel(c->links.size(), threads_, [&](size_t n) {
-          std::vector<int> rest = c->links;
-          rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(n));
-          without[n] = OwnError(rest);
-        });
-      }
-      double most = -1.0, without_most = 0.0;
-      size_t worst = 0;
-      for (size_t n = 0; n < c->links.size(); ++n) {
-        if (brought - without[n] > most) {
-          most = brought - without[n];
-          without_most = without[n];
-          worst = n;
-        }
-      }
-      const double link_gate = group_scale_ * chi2_(e);
-      if (most < link_gate) {
-        for (const int k : c->links) {
-          Decide(k, false,
-                 {DecisionTest::kOwn, brought, gate, group_scale_, dof});
-        }
-        return LeftOutAgree(c);
-      }
-      c->left_out.push_back(
-          {c->links[worst],
-           {DecisionTest::kOwnLink, most, link_gate, group_scale_, e}});
-      c->links.erase(c->links.begin() + worst);
-      brought = without_most;
-    }
-    return false;
-  }
-
-  // Once the kept links of cluster `c` are refused: the links rule 1 took
-  // out of it, one at a time, become its links and are judged by rule 1
-  // again (taking out links one at a time can keep the wrong side of a
-  // cluster that mixes two groups). Returns whether links that agree remain
-  // (at least two).
-  bool LeftOutAgree(PairCluster* c) {
-    c->links.clear();
-    for (const auto& taken : c->left_out) c->links.push_back(taken.first);
-    c->left_out.clear();
-    return c->links.size() >= 2 && KeepAgreeing(c);
   }
 
   // Refuses, with the reasons rule 1 gave, the links it took out that are
@@ -334,7 +248,7 @@ class PairJudge {
   //
   // `clusters` indexes clusters_; a cluster's links are its open ones.
   // When a cluster is refused, the links rule 1 took out of it are judged
-  // next (LeftOutAgree), if any.
+  // next (OwnAgreement::KeepLeftOut), if any.
   void JudgeAgainstJoined(const std::vector<size_t>& clusters) {
     std::vector<std::vector<int>> rest;
     rest.reserve(clusters.size());
@@ -405,7 +319,7 @@ class PairJudge {
         for (const int k : rest[next]) Decide(k, false, reason);
         PairCluster& refused = clusters_[cluster_of[next]];
         if (!refused.left_out.empty()) {
-          LeftOutAgree(&refused);
+          own_.KeepLeftOut(&refused, Refusal());
           std::vector<int> links = Open(refused);
           if (!links.empty()) {
             rest.push_back(std::move(links));
@@ -461,6 +375,11 @@ class PairJudge {
     }
     return open;
   }
+  typename OwnAgreement<Pose>::Refuse Refusal() {
+    return [this](int k, const DecisionReason& reason) {
+      Decide(k, false, reason);
+    };
+  }
   void Decide(int k, bool accept, DecisionReason reason) {
     decided_[k] = accept;
     const int loop = pair_->candidates[k];
@@ -486,9 +405,10 @@ class PairJudge {
   const int radius_;
   const int most_junctions_;
   const ConvergenceOptions convergence_;
-  const int threads_;  // rule 1's solves side by side (RrrOptions::threads)
+  const int threads_;  // solves side by side (RrrOptions::threads)
   const double group_scale_;
   const double map_scale_;
+  const OwnAgreement<Pose> own_;  // rule 1
   Verdict* verdict_;
   std::vector<PairCluster> clusters_;
   std::map<int, bool> decided_;

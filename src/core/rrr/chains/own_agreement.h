@@ -1,0 +1,149 @@
+// Rule 1 of VerifyChains (include/rrr/rrr/chains/verify_chains.h): the
+// links of a cluster between two chains that agree with themselves.
+#ifndef RRR_CORE_RRR_CHAINS_OWN_AGREEMENT_H_
+#define RRR_CORE_RRR_CHAINS_OWN_AGREEMENT_H_
+
+#include <algorithm>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "rigid_fit.h"
+#include "rrr/graph/chain_spans.h"
+#include "rrr/graph/pose_graph.h"
+#include "rrr/io/g2o.h"
+#include "rrr/rrr/chi_square.h"
+#include "rrr/rrr/decision_reason.h"
+#include "rrr/solver/pose_graph_solver.h"
+#include "rrr/solver/solve_in_parallel.h"
+
+namespace rrr {
+
+// A cluster of the loops between two chains, as rule 1 leaves it.
+struct PairCluster {
+  int index;               // into Verdict::clusters
+  std::vector<int> links;  // indices into the pair's candidates, kept so far
+  // The links rule 1 took out one at a time, with their reasons: refused
+  // only once the kept links are accepted; if those are refused, they are
+  // judged again as a cluster of their own (OwnAgreement::KeepLeftOut).
+  std::vector<std::pair<int, DecisionReason>> left_out;
+};
+
+// Rule 1 over the candidates between two chains: a cluster's links against
+// the odometry of both chains alone (the stretches between their ends, the
+// relative pose free), the link that brings most taken out while their
+// error is over the gate group_scale·χ²(e·(n − 1)).
+template <class Pose>
+class OwnAgreement {
+ public:
+  // Refuses candidate `link` (an index into `candidates`) for `reason`.
+  using Refuse = std::function<void(int link, const DecisionReason& reason)>;
+
+  // `candidates` index graph.loops(), each between `second` and one other
+  // chain (the same for all); `estimates` are every pose's of `graph`.
+  // Every reference must outlive the rule.
+  OwnAgreement(const PoseGraph<Pose>& graph, const std::vector<Pose>& estimates,
+               const ChainSpan& second, const std::vector<int>& candidates,
+               const ChiSquareQuantile& chi2, double group_scale, int threads)
+      : graph_(graph),
+        estimates_(estimates),
+        second_(second),
+        candidates_(candidates),
+        chi2_(chi2),
+        group_scale_(group_scale),
+        threads_(threads) {}
+
+  // Rule 1 for `c`: returns whether links that agree remain (at least two),
+  // with c->links those links and c->left_out the links taken out. If no
+  // link brings more than a link's gate, the cluster's links are refused
+  // (kOwn, by `refuse`) and those it took out judged in their place
+  // (KeepLeftOut).
+  bool Keep(PairCluster* c, const Refuse& refuse) const {
+    const int e = Pose::kDof;
+    double brought = OwnError(c->links);
+    while (c->links.size() >= 2) {
+      const int dof = e * (static_cast<int>(c->links.size()) - 1);
+      const double gate = group_scale_ * chi2_(dof);
+      if (brought < gate) return true;
+      // The link that brings most: the error with it minus without it (the
+      // errors without each link solved side by side).
+      std::vector<double> without(c->links.size(), 0.0);
+      if (c->links.size() > 2) {
+        ForEachInParallel(c->links.size(), threads_, [&](size_t n) {
+          std::vector<int> rest = c->links;
+          rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(n));
+          without[n] = OwnError(rest);
+        });
+      }
+      double most = -1.0, without_most = 0.0;
+      size_t worst = 0;
+      for (size_t n = 0; n < c->links.size(); ++n) {
+        if (brought - without[n] > most) {
+          most = brought - without[n];
+          without_most = without[n];
+          worst = n;
+        }
+      }
+      const double link_gate = group_scale_ * chi2_(e);
+      if (most < link_gate) {
+        for (const int k : c->links) {
+          refuse(k, {DecisionTest::kOwn, brought, gate, group_scale_, dof});
+        }
+        return KeepLeftOut(c, refuse);
+      }
+      c->left_out.push_back(
+          {c->links[worst],
+           {DecisionTest::kOwnLink, most, link_gate, group_scale_, e}});
+      c->links.erase(c->links.begin() + worst);
+      brought = without_most;
+    }
+    return false;
+  }
+
+  // Once the kept links of `c` are refused: the links rule 1 took out of
+  // it, one at a time, become its links and are judged by Keep (taking out
+  // links one at a time can keep the wrong side of a cluster that mixes two
+  // groups). Returns whether links that agree remain (at least two).
+  bool KeepLeftOut(PairCluster* c, const Refuse& refuse) const {
+    c->links.clear();
+    for (const auto& taken : c->left_out) c->links.push_back(taken.first);
+    c->left_out.clear();
+    return c->links.size() >= 2 && Keep(c, refuse);
+  }
+
+ private:
+  // The minimal error of `links` with the odometry alone: the stretches of
+  // both chains between their ends, the relative pose free.
+  double OwnError(const std::vector<int>& links) const {
+    ChainSpan a{graph_.num_poses(), -1}, b = a;
+    std::vector<int> loops;
+    for (const int k : links) {
+      loops.push_back(candidates_[k]);
+      const auto& e = graph_.loops()[loops.back()];
+      for (const int p : {e.from, e.to}) {
+        ChainSpan& span = second_.Holds(p) ? b : a;
+        span.first = std::min(span.first, p);
+        span.last = std::max(span.last, p);
+      }
+    }
+    const PoseGraph<Pose> own = SubGraph(graph_, {a, b}, estimates_, loops);
+    const PoseGraphSolver<Pose> solver(own, 1);
+    const std::vector<Pose> start =
+        PlacedBy(own.loops().front(), a.size(), solver.initial());
+    MinimizeResult result;
+    solver.Optimize(AllLoops(own), ConvergenceOptions{}, &result, &start);
+    return result.final_chi2;
+  }
+
+  const PoseGraph<Pose>& graph_;
+  const std::vector<Pose>& estimates_;
+  const ChainSpan second_;
+  const std::vector<int>& candidates_;
+  const ChiSquareQuantile& chi2_;
+  const double group_scale_;
+  const int threads_;  // solves side by side (RrrOptions::threads)
+};
+
+}  // namespace rrr
+
+#endif  // RRR_CORE_RRR_CHAINS_OWN_AGREEMENT_H_
