@@ -22,22 +22,20 @@ std::unique_lock<std::mutex> LockBlasFor(const cholmod_factor* factor) {
 }
 
 // The upper triangle, diagonal included, of the symmetric block pattern of
-// `num_blocks` blocks with the off-diagonal pairs `pairs`, each block b
-// renumbered place[b] (unchanged if `place` is empty).
+// `num_blocks` blocks with the off-diagonal pairs `pairs`: each column's rows
+// ascending, without repeats.
 BlockPattern UpperPattern(int num_blocks,
-                          const std::vector<std::pair<int, int>>& pairs,
-                          const std::vector<int>& place) {
-  const auto at = [&place](int b) { return place.empty() ? b : place[b]; };
+                          const std::vector<std::pair<int, int>>& pairs) {
   BlockPattern upper;
   upper.start.assign(num_blocks + 1, 0);
   for (int b = 0; b < num_blocks; ++b) ++upper.start[b + 1];
-  for (const auto& [a, b] : pairs) ++upper.start[std::max(at(a), at(b)) + 1];
+  for (const auto& [a, b] : pairs) ++upper.start[std::max(a, b) + 1];
   for (int c = 0; c < num_blocks; ++c) upper.start[c + 1] += upper.start[c];
   std::vector<int> fill(upper.start.begin(), upper.start.end() - 1);
   upper.row.resize(upper.start[num_blocks]);
-  for (int b = 0; b < num_blocks; ++b) upper.row[fill[at(b)]++] = at(b);
+  for (int b = 0; b < num_blocks; ++b) upper.row[fill[b]++] = b;
   for (const auto& [a, b] : pairs) {
-    upper.row[fill[std::max(at(a), at(b))]++] = std::min(at(a), at(b));
+    upper.row[fill[std::max(a, b)]++] = std::min(a, b);
   }
   // Each column sorted, repeats dropped, the columns closed up.
   int kept = 0;
@@ -54,6 +52,34 @@ BlockPattern UpperPattern(int num_blocks,
   upper.start[num_blocks] = kept;
   upper.row.resize(kept);
   return upper;
+}
+
+// `upper` (an UpperPattern) with each block b renumbered place[b]: the upper
+// triangle of the same symmetric pattern, each column's rows ascending.
+BlockPattern Renumbered(const BlockPattern& upper,
+                        const std::vector<int>& place) {
+  const int num_blocks = static_cast<int>(upper.start.size()) - 1;
+  BlockPattern out;
+  out.start.assign(num_blocks + 1, 0);
+  for (int c = 0; c < num_blocks; ++c) {
+    for (int e = upper.start[c]; e < upper.start[c + 1]; ++e) {
+      ++out.start[std::max(place[upper.row[e]], place[c]) + 1];
+    }
+  }
+  for (int c = 0; c < num_blocks; ++c) out.start[c + 1] += out.start[c];
+  std::vector<int> fill(out.start.begin(), out.start.end() - 1);
+  out.row.resize(upper.row.size());
+  for (int c = 0; c < num_blocks; ++c) {
+    for (int e = upper.start[c]; e < upper.start[c + 1]; ++e) {
+      const int a = place[upper.row[e]], b = place[c];
+      out.row[fill[std::max(a, b)]++] = std::min(a, b);
+    }
+  }
+  for (int c = 0; c < num_blocks; ++c) {
+    std::sort(out.row.begin() + out.start[c],
+              out.row.begin() + out.start[c + 1]);
+  }
+  return out;
 }
 
 // A fill-reducing ordering of a block pattern and the structure of its
@@ -101,10 +127,10 @@ BlockCholesky<D>::BlockCholesky(
 
   // Order the blocks once; the matrix is stored permuted, so every numeric
   // factorization runs in natural order without copying the matrix.
-  const BlockAnalysis blocks =
-      AnalyzeBlocks(UpperPattern(num_blocks, off_diagonal, {}), common_.get());
+  const BlockPattern upper = UpperPattern(num_blocks, off_diagonal);
+  const BlockAnalysis blocks = AnalyzeBlocks(upper, common_.get());
   position_ = blocks.position;
-  stored_ = UpperPattern(num_blocks, off_diagonal, position_);
+  stored_ = Renumbered(upper, position_);
   // Diagonal blocks take slots 0..num_blocks-1 (by permuted position), the
   // rest follow.
   slot_.resize(stored_.row.size());
