@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """One graph as several odometry chains (BENCHMARKS.md, "Several odometry
-chains"): each synthetic dataset spoiled with false loops (rrr spoil, as
-bench/spoiled_synthetic.py), then cut into N chains of equal length: the
-odometry edge into each cut's first pose removed and every later chain's
-vertex estimates moved by a rigid transform (a session whose odometry
-restarted elsewhere). Every loop is kept; those across a cut become loops
+chains"): each dataset (synthetic/ or more/) spoiled with false loops (rrr
+spoil, as bench/spoiled_synthetic.py), then cut into N chains of equal
+length: the odometry edge into each cut's first pose removed and every later
+chain's vertex estimates moved by a rigid transform (a session whose
+odometry restarted elsewhere; a graph of edges only has no estimates, and
+each chain starts from its own origin). Every loop is kept; those across a cut become loops
 between chains, false ones among them. rrr verify judges each set; scored
 against the list of false loops, with the ATE against the optimum of the
 dataset without false loops (one rigid alignment for the whole map: chains
@@ -64,6 +65,8 @@ def cut(src, dst, chains):
     the ids of each chain's first pose."""
     lines = open(src).read().splitlines(keepends=True)
     ids = sorted(int(l.split()[1]) for l in lines if l.startswith("VERTEX"))
+    if not ids:  # edges only: the poses are the edges' ends
+        ids = sorted({int(f) for l in lines if l.startswith("EDGE") for f in l.split()[1:3]})
     firsts = [ids[len(ids) * k // chains] for k in range(chains)]
 
     def chain_of(i):
@@ -170,9 +173,11 @@ def main():
                 if chains == 1:
                     single_seconds = seconds
     else:
-        data = common.datasets_dir() / "synthetic"
         for name in args.datasets:
-            clean = data / f"{name}.g2o"
+            clean = common.dataset_path(name)
+            if not clean.exists():
+                print(f"{name}: {clean} not found, skipped", flush=True)
+                continue
             optimum = out / f"{name}_optimum.g2o"
             if not optimum.exists():
                 common.run("optimize", clean, "--output", optimum)

@@ -26,6 +26,17 @@ def datasets_dir():
     return path
 
 
+def dataset_path(name):
+    """The g2o file of dataset NAME: synthetic/NAME.g2o, else more/NAME.g2o
+    (the first that exists; the synthetic one, to be named as missing, if
+    neither does)."""
+    for folder in ("synthetic", "more"):
+        path = datasets_dir() / folder / f"{name}.g2o"
+        if path.exists():
+            return path
+    return datasets_dir() / "synthetic" / f"{name}.g2o"
+
+
 def require_rrr():
     if not RRR.exists():
         sys.exit(f"{RRR} not built: run scripts/setup.sh first")
@@ -200,9 +211,8 @@ def spoiled_sets(args, out):
     kind, outliers, seed, folder, spoiled file, list of false loops and the
     optimum of the dataset without false loops. Missing datasets are named
     and skipped."""
-    data = datasets_dir() / "synthetic"
     for name in args.datasets:
-        clean = data / f"{name}.g2o"
+        clean = dataset_path(name)
         if not clean.exists():
             print(f"{name}: {clean} not found, skipped", flush=True)
             continue
