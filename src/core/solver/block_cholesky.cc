@@ -54,32 +54,19 @@ BlockPattern UpperPattern(int num_blocks,
   return upper;
 }
 
-// `upper` (an UpperPattern) with each block b renumbered place[b]: the upper
-// triangle of the same symmetric pattern, each column's rows ascending.
+// `upper` (an UpperPattern) with each block b renumbered place[b]: the
+// UpperPattern of its off-diagonal entries so renumbered.
 BlockPattern Renumbered(const BlockPattern& upper,
                         const std::vector<int>& place) {
   const int num_blocks = static_cast<int>(upper.start.size()) - 1;
-  BlockPattern out;
-  out.start.assign(num_blocks + 1, 0);
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(upper.row.size() - num_blocks);
   for (int c = 0; c < num_blocks; ++c) {
     for (int e = upper.start[c]; e < upper.start[c + 1]; ++e) {
-      ++out.start[std::max(place[upper.row[e]], place[c]) + 1];
+      if (upper.row[e] != c) pairs.emplace_back(place[upper.row[e]], place[c]);
     }
   }
-  for (int c = 0; c < num_blocks; ++c) out.start[c + 1] += out.start[c];
-  std::vector<int> fill(out.start.begin(), out.start.end() - 1);
-  out.row.resize(upper.row.size());
-  for (int c = 0; c < num_blocks; ++c) {
-    for (int e = upper.start[c]; e < upper.start[c + 1]; ++e) {
-      const int a = place[upper.row[e]], b = place[c];
-      out.row[fill[std::max(a, b)]++] = std::min(a, b);
-    }
-  }
-  for (int c = 0; c < num_blocks; ++c) {
-    std::sort(out.row.begin() + out.start[c],
-              out.row.begin() + out.start[c + 1]);
-  }
-  return out;
+  return UpperPattern(num_blocks, pairs);
 }
 
 // A fill-reducing ordering of a block pattern and the structure of its
