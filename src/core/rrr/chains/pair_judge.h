@@ -108,20 +108,14 @@ class PairJudge {
       joined_ = Minimize({}, pair_graph_.estimates());
     }
     // Rule 3: the other clusters against the joined map; or none, apart.
-    std::vector<size_t> rest;
-    for (size_t c = 0; c < clusters_.size(); ++c) {
-      if (!Open(clusters_[c]).empty()) rest.push_back(c);
-    }
     if (!pair_->joined) {
-      for (const size_t c : rest) {
-        for (const int k : Open(clusters_[c])) {
-          Decide(k, false, {DecisionTest::kApart});
-        }
+      for (const PairCluster& c : clusters_) {
+        for (const int k : Open(c)) Decide(k, false, {DecisionTest::kApart});
       }
       RefuseLeftOut();
       return;
     }
-    JudgeAgainstJoined(rest);
+    JudgeAgainstJoined();
     RefuseLeftOut();
     // Joined through others, the pair's own loops join it if any is kept.
     if (one_map) pair_->joined = !pair_->accepted.empty();
@@ -234,7 +228,7 @@ class PairJudge {
     }
   }
 
-  // Rule 3 for the clusters `rest` (their open links), against the joined
+  // Rule 3 for the clusters with open links (those links), against the joined
   // map held as the map procedure holds a chain (MaintainedMap), from its
   // minimum joined_. Every cluster whose links' error at the map's estimate
   // is under their gate is accepted (that error bounds what they bring) and
@@ -246,14 +240,17 @@ class PairJudge {
   // minimized first if it took links since; and so on until every cluster
   // is decided. joined_ is then the map's estimate.
   //
-  // `clusters` indexes clusters_; a cluster's links are its open ones.
   // When a cluster is refused, the links rule 1 took out of it are judged
   // next (OwnAgreement::KeepLeftOut), if any.
-  void JudgeAgainstJoined(const std::vector<size_t>& clusters) {
+  void JudgeAgainstJoined() {
     std::vector<std::vector<int>> rest;
-    rest.reserve(clusters.size());
-    for (const size_t c : clusters) rest.push_back(Open(clusters_[c]));
-    std::vector<size_t> cluster_of = clusters;
+    std::vector<size_t> cluster_of;  // rest[i] is of clusters_[cluster_of[i]]
+    for (size_t c = 0; c < clusters_.size(); ++c) {
+      std::vector<int> links = Open(clusters_[c]);
+      if (links.empty()) continue;
+      rest.push_back(std::move(links));
+      cluster_of.push_back(c);
+    }
     MaintainedMap<Pose> map(pair_graph_, spans_, odometry_, convergence_,
                             most_junctions_);
     map.AddAt(Active(in_map_), joined_);
