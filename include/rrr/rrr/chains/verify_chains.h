@@ -35,8 +35,10 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     consistent as a true one. A cluster of at least two links is first
 //     held to its own consistency (the links minimized with both chains'
 //     maps, the chains' relative pose free: the error they bring, against
-//     the gate of e·(n−1) dof; the worst link goes while what it brings
-//     exceeds one link's gate). The links that went are refused once the
+//     the gate of e·(n−1) dof; the link that brings most goes while what
+//     it brings exceeds one link's gate, sought among the links whose
+//     first-order change of the minimum is not under the largest d² there,
+//     OwnAgreement). The links that went are refused once the
 //     links kept are accepted; if those are refused (here, or against the
 //     joined map by rule 3), the links that went are judged next as a
 //     cluster of their own.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/decision_reason.h"
+#include "rrr/solver/edge_error.h"
 #include "rrr/solver/pose_graph_solver.h"
 #include "rrr/solver/solve_in_parallel.h"
 
@@ -32,7 +34,10 @@ struct PairCluster {
 // Rule 1 over the candidates between two chains: a cluster's links against
 // the odometry of both chains alone (the stretches between their ends, the
 // relative pose free), the link that brings most taken out while their
-// error is over the gate group_scale·χ²(e·(n − 1)).
+// error is over the gate group_scale·χ²(e·(n − 1)). That link is sought by
+// leaving out in turn the links that can bring most (Suspects), a solve
+// each: on a cluster of n links, up to n solves a round where every link
+// is a suspect, far fewer where a few links fit worst.
 template <class Pose>
 class OwnAgreement {
  public:
@@ -60,42 +65,43 @@ class OwnAgreement {
   // (KeepLeftOut).
   bool Keep(PairCluster* c, const Refuse& refuse) const {
     const int e = Pose::kDof;
-    double brought = OwnError(c->links);
+    OwnMinimum own = Minimize(c->links);
     while (c->links.size() >= 2) {
       const int dof = e * (static_cast<int>(c->links.size()) - 1);
       const double gate = group_scale_ * chi2_(dof);
-      if (brought < gate) return true;
+      if (own.error < gate) return true;
       // The link that brings most: the error with it minus without it (the
-      // errors without each link solved side by side).
-      std::vector<double> without(c->links.size(), 0.0);
+      // errors without each suspect solved side by side).
+      const std::vector<size_t> suspects = Suspects(c->links, own.x);
+      std::vector<OwnMinimum> without(suspects.size());
       if (c->links.size() > 2) {
-        ForEachInParallel(c->links.size(), threads_, [&](size_t n) {
+        ForEachInParallel(suspects.size(), threads_, [&](size_t s) {
           std::vector<int> rest = c->links;
-          rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(n));
-          without[n] = OwnError(rest);
+          rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(suspects[s]));
+          without[s] = Minimize(rest);
         });
       }
-      double most = -1.0, without_most = 0.0;
+      double most = -1.0;
       size_t worst = 0;
-      for (size_t n = 0; n < c->links.size(); ++n) {
-        if (brought - without[n] > most) {
-          most = brought - without[n];
-          without_most = without[n];
-          worst = n;
+      for (size_t s = 0; s < suspects.size(); ++s) {
+        if (own.error - without[s].error > most) {
+          most = own.error - without[s].error;
+          worst = s;
         }
       }
       const double link_gate = group_scale_ * chi2_(e);
       if (most < link_gate) {
         for (const int k : c->links) {
-          refuse(k, {DecisionTest::kOwn, brought, gate, group_scale_, dof});
+          refuse(k, {DecisionTest::kOwn, own.error, gate, group_scale_, dof});
         }
         return KeepLeftOut(c, refuse);
       }
+      const auto at =
+          c->links.begin() + static_cast<std::ptrdiff_t>(suspects[worst]);
       c->left_out.push_back(
-          {c->links[worst],
-           {DecisionTest::kOwnLink, most, link_gate, group_scale_, e}});
-      c->links.erase(c->links.begin() + worst);
-      brought = without_most;
+          {*at, {DecisionTest::kOwnLink, most, link_gate, group_scale_, e}});
+      c->links.erase(at);
+      own = std::move(without[worst]);
     }
     return false;
   }
@@ -112,9 +118,17 @@ class OwnAgreement {
   }
 
  private:
-  // The minimal error of `links` with the odometry alone: the stretches of
-  // both chains between their ends, the relative pose free.
-  double OwnError(const std::vector<int>& links) const {
+  // The minimum of the error of some links with the odometry alone.
+  struct OwnMinimum {
+    double error = 0.0;
+    std::vector<Pose> x;  // the poses of Own(links) there
+  };
+
+  // The graph of `links` with the odometry alone: the stretches of both
+  // chains between their ends, loop k of it links[k]; the second stretch
+  // starts at pose `*first_of_b` of it.
+  PoseGraph<Pose> Own(const std::vector<int>& links,
+                      int* first_of_b = nullptr) const {
     ChainSpan a{graph_.num_poses(), -1}, b = a;
     std::vector<int> loops;
     for (const int k : links) {
@@ -126,13 +140,61 @@ class OwnAgreement {
         span.last = std::max(span.last, p);
       }
     }
-    const PoseGraph<Pose> own = SubGraph(graph_, {a, b}, estimates_, loops);
+    if (first_of_b) *first_of_b = a.size();
+    return SubGraph(graph_, {a, b}, estimates_, loops);
+  }
+
+  // The minimum of `links`' error with the odometry alone (Own), the
+  // relative pose of the chains free, from the first link's placement.
+  OwnMinimum Minimize(const std::vector<int>& links) const {
+    int first_of_b = 0;
+    const PoseGraph<Pose> own = Own(links, &first_of_b);
     const PoseGraphSolver<Pose> solver(own, 1);
     const std::vector<Pose> start =
-        PlacedBy(own.loops().front(), a.size(), solver.initial());
+        PlacedBy(own.loops().front(), first_of_b, solver.initial());
+    OwnMinimum minimum;
     MinimizeResult result;
-    solver.Optimize(AllLoops(own), ConvergenceOptions{}, &result, &start);
-    return result.final_chi2;
+    minimum.x =
+        solver.Optimize(AllLoops(own), ConvergenceOptions{}, &result, &start);
+    minimum.error = result.final_chi2;
+    return minimum;
+  }
+
+  // The indices into `links` (more than two) of the links that may bring
+  // most at `x`, their minimum. What a link brings is at least its d² at
+  // `x`, and to first order it is its change of the minimum
+  // (PoseGraphSolver::ChangesOfMinimum; exactly so for a linear problem):
+  // a link whose change is under the largest d² is not searched. Every
+  // link if that change cannot be found.
+  std::vector<size_t> Suspects(const std::vector<int>& links,
+                               const std::vector<Pose>& x) const {
+    std::vector<size_t> all(links.size());
+    std::iota(all.begin(), all.end(), size_t{0});
+    if (links.size() <= 2) return all;
+    const PoseGraph<Pose> own = Own(links);
+    std::vector<std::vector<int>> groups;
+    groups.reserve(links.size());
+    for (int k = 0; k < static_cast<int>(links.size()); ++k) {
+      groups.push_back({k});
+    }
+    std::vector<double> changes;
+    if (!PoseGraphSolver<Pose>(own, 1).ChangesOfMinimum(AllLoops(own), groups,
+                                                        x, &changes)) {
+      return all;
+    }
+    size_t fits_worst = 0;
+    std::vector<double> d2(links.size());
+    for (size_t k = 0; k < links.size(); ++k) {
+      d2[k] = EdgeChi2(own.loops()[k], x);
+      if (d2[k] > d2[fits_worst]) fits_worst = k;
+    }
+    std::vector<size_t> suspects;
+    for (size_t k = 0; k < links.size(); ++k) {
+      if (k == fits_worst || !(changes[k] < d2[fits_worst])) {
+        suspects.push_back(k);
+      }
+    }
+    return suspects;
   }
 
   const PoseGraph<Pose>& graph_;

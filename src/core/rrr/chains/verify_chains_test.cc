@@ -25,6 +25,46 @@ using testing::SessionsWithAFalseRevisit;
 using testing::ThreeSessionsWithAFalseJoin;
 using testing::TwoSessionsWithFalseLoops;
 
+// The loops of `two` between its poses before `cut` and after, in runs of
+// consecutive revisits (ends at most two poses from the last link's).
+std::vector<std::vector<int>> RunsBetween(const PoseGraph<Pose2>& two,
+                                          int cut) {
+  std::vector<std::vector<int>> runs;
+  for (size_t k = 0; k < two.loops().size(); ++k) {
+    const auto& e = two.loops()[k];
+    if ((e.from < cut) == (e.to < cut)) continue;
+    const bool continues =
+        !runs.empty() &&
+        std::abs(e.from - two.loops()[runs.back().back()].from) <= 2 &&
+        std::abs(e.to - two.loops()[runs.back().back()].to) <= 2;
+    if (!continues) runs.emplace_back();
+    runs.back().push_back(static_cast<int>(k));
+  }
+  return runs;
+}
+
+// VerifyChains on `two`, two sessions, with the loops `falses` added:
+// expects the sessions joined, every loop of `revisit` accepted and every
+// one of `falses` refused; returns the reasons of `falses`.
+std::vector<DecisionReason> RevisitKeptFalseRefused(
+    PoseGraph<Pose2> two, const std::vector<int>& revisit,
+    const std::vector<Constraint<Pose2>>& falses) {
+  const size_t true_loops = two.loops().size();
+  for (const Constraint<Pose2>& e : falses) two.AddEdge(e);
+  const ChainsVerdict<Pose2> v = VerifyChains(two, ChainWorldOptions());
+  EXPECT_EQ(v.pairs.size(), 1u);
+  EXPECT_TRUE(!v.pairs.empty() && v.pairs[0].joined);
+  const std::set<int> accepted(v.verdict.accepted.begin(),
+                               v.verdict.accepted.end());
+  for (const int k : revisit) EXPECT_EQ(accepted.count(k), 1u) << k;
+  std::vector<DecisionReason> reasons;
+  for (size_t k = true_loops; k < two.loops().size(); ++k) {
+    EXPECT_EQ(accepted.count(static_cast<int>(k)), 0u) << k;
+    reasons.push_back(v.verdict.reasons[k]);
+  }
+  return reasons;
+}
+
 TEST(ChainSpans, AGapStartsAChain) {
   const SimulatedWorld world = SimulateWorld(Grid(400, 1));
   const PoseGraph<Pose2> two = CutAt(world.graph, {150});
@@ -288,21 +328,13 @@ TEST(VerifyChains, TrueLinksOutnumberedInTheirClusterAreJudgedAgain) {
   const SimulatedWorld world = SimulateWorld(Grid(1200, 3));
   const int cut = 600;
   PoseGraph<Pose2> two = CutAt(world.graph, {cut});
-  std::vector<int> revisit;  // true loops between the sessions, in a run
-  for (size_t k = 0; k < two.loops().size(); ++k) {
-    const auto& e = two.loops()[k];
-    if ((e.from < cut) == (e.to < cut)) continue;
-    const bool continues =
-        !revisit.empty() &&
-        std::abs(e.from - two.loops()[revisit.back()].from) <= 2 &&
-        std::abs(e.to - two.loops()[revisit.back()].to) <= 2;
-    if (revisit.size() >= 4 && !continues) break;
-    if (!continues) revisit.clear();
-    revisit.push_back(static_cast<int>(k));
-  }
-  ASSERT_GE(revisit.size(), 4u);
-  const size_t true_loops = two.loops().size();
+  const std::vector<std::vector<int>> runs = RunsBetween(two, cut);
+  const auto first_long = std::find_if(
+      runs.begin(), runs.end(), [](const auto& r) { return r.size() >= 4; });
+  ASSERT_NE(first_long, runs.end());
+  const std::vector<int>& revisit = *first_long;
   const Pose2 wrong(2.0, 1.0, 0.05);
+  std::vector<Constraint<Pose2>> falses;
   for (const int k : revisit) {
     for (const int shift : {0, 1}) {
       Constraint<Pose2> e = two.loops()[k];
@@ -311,18 +343,40 @@ TEST(VerifyChains, TrueLinksOutnumberedInTheirClusterAreJudgedAgain) {
       e.from = first;
       e.to = second;
       e.measurement = world.truth[first].between(wrong * world.truth[second]);
-      two.AddEdge(e);
+      falses.push_back(e);
     }
   }
-  const ChainsVerdict<Pose2> v = VerifyChains(two, ChainWorldOptions());
-  ASSERT_EQ(v.pairs.size(), 1u);
-  ASSERT_TRUE(v.pairs[0].joined);
-  const std::set<int> accepted(v.verdict.accepted.begin(),
-                               v.verdict.accepted.end());
-  for (const int k : revisit) EXPECT_EQ(accepted.count(k), 1u) << k;
-  for (size_t k = true_loops; k < two.loops().size(); ++k) {
-    EXPECT_EQ(accepted.count(static_cast<int>(k)), 0u) << k;
-    EXPECT_NE(v.verdict.reasons[k].test, DecisionTest::kNotJudged) << k;
+  for (const DecisionReason& r :
+       RevisitKeptFalseRefused(two, revisit, falses)) {
+    EXPECT_NE(r.test, DecisionTest::kNotJudged);
+  }
+}
+
+TEST(VerifyChains, FalseLinksInALongRevisitBetweenChainsAreTakenOutByRule1) {
+  // Two sessions joined by their revisits. Into the longest revisit between
+  // them go two false links, each its own wrong pose, at poses of the
+  // revisit: rule 1 takes out exactly those (kOwnLink), and the true links
+  // of the revisit are kept.
+  const SimulatedWorld world = SimulateWorld(Grid(1200, 3));
+  const int cut = 600;
+  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
+  const std::vector<std::vector<int>> runs = RunsBetween(two, cut);
+  const std::vector<int> longest = *std::max_element(
+      runs.begin(), runs.end(),
+      [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  ASSERT_GE(longest.size(), 8u);
+  std::vector<Constraint<Pose2>> falses;
+  for (const auto& [at, wrong] :
+       {std::pair<size_t, Pose2>{2, Pose2(1.5, -1.0, 0.2)},
+        std::pair<size_t, Pose2>{5, Pose2(-2.0, 0.5, -0.15)}}) {
+    Constraint<Pose2> e = two.loops()[longest[at]];
+    e.to += 1;
+    e.measurement = world.truth[e.from].between(wrong * world.truth[e.to]);
+    falses.push_back(e);
+  }
+  for (const DecisionReason& r :
+       RevisitKeptFalseRefused(two, longest, falses)) {
+    EXPECT_EQ(r.test, DecisionTest::kOwnLink);
   }
 }
 
