@@ -65,6 +65,29 @@ std::vector<DecisionReason> RevisitKeptFalseRefused(
   return reasons;
 }
 
+// For each loop of `revisit`, a copy per shift of its first end by
+// `shifts` poses, measuring the truth with the second end moved by `wrong`:
+// false links that agree with each other exactly.
+std::vector<Constraint<Pose2>> CopiesMovedBy(const PoseGraph<Pose2>& two,
+                                             const std::vector<Pose2>& truth,
+                                             const std::vector<int>& revisit,
+                                             const Pose2& wrong,
+                                             const std::vector<int>& shifts) {
+  std::vector<Constraint<Pose2>> copies;
+  for (const int k : revisit) {
+    for (const int shift : shifts) {
+      Constraint<Pose2> e = two.loops()[k];
+      const int first = std::min(e.from, e.to) + shift;
+      const int second = std::max(e.from, e.to);
+      e.from = first;
+      e.to = second;
+      e.measurement = truth[first].between(wrong * truth[second]);
+      copies.push_back(e);
+    }
+  }
+  return copies;
+}
+
 TEST(ChainSpans, AGapStartsAChain) {
   const SimulatedWorld world = SimulateWorld(Grid(400, 1));
   const PoseGraph<Pose2> two = CutAt(world.graph, {150});
@@ -333,23 +356,35 @@ TEST(VerifyChains, TrueLinksOutnumberedInTheirClusterAreJudgedAgain) {
       runs.begin(), runs.end(), [](const auto& r) { return r.size() >= 4; });
   ASSERT_NE(first_long, runs.end());
   const std::vector<int>& revisit = *first_long;
-  const Pose2 wrong(2.0, 1.0, 0.05);
-  std::vector<Constraint<Pose2>> falses;
-  for (const int k : revisit) {
-    for (const int shift : {0, 1}) {
-      Constraint<Pose2> e = two.loops()[k];
-      const int first = std::min(e.from, e.to) + shift;
-      const int second = std::max(e.from, e.to);
-      e.from = first;
-      e.to = second;
-      e.measurement = world.truth[first].between(wrong * world.truth[second]);
-      falses.push_back(e);
-    }
-  }
+  const std::vector<Constraint<Pose2>> falses =
+      CopiesMovedBy(two, world.truth, revisit, Pose2(2.0, 1.0, 0.05), {0, 1});
   for (const DecisionReason& r :
        RevisitKeptFalseRefused(two, revisit, falses)) {
     EXPECT_NE(r.test, DecisionTest::kNotJudged);
   }
+}
+
+TEST(VerifyChains, TrueLinksUnderTwoLargerFalseGroupsAreJudgedAgainTwice) {
+  // As above, with a second false group at the same poses, larger still:
+  // rule 1 keeps the largest group and the joined map refuses it; of the
+  // links it took out, rule 1 keeps the second group, which the map
+  // refuses too; the true links, taken out of that, are judged again, and
+  // kept.
+  const SimulatedWorld world = SimulateWorld(Grid(1200, 3));
+  const int cut = 600;
+  PoseGraph<Pose2> two = CutAt(world.graph, {cut});
+  const std::vector<std::vector<int>> runs = RunsBetween(two, cut);
+  const auto first_long = std::find_if(
+      runs.begin(), runs.end(), [](const auto& r) { return r.size() >= 4; });
+  ASSERT_NE(first_long, runs.end());
+  const std::vector<int>& revisit = *first_long;
+  std::vector<Constraint<Pose2>> falses =
+      CopiesMovedBy(two, world.truth, revisit, Pose2(2.0, 1.0, 0.05), {0, 1});
+  for (const auto& e : CopiesMovedBy(two, world.truth, revisit,
+                                     Pose2(-1.5, 2.0, -0.1), {0, 1, 2})) {
+    falses.push_back(e);
+  }
+  RevisitKeptFalseRefused(two, revisit, falses);
 }
 
 TEST(VerifyChains, FalseLinksInALongRevisitBetweenChainsAreTakenOutByRule1) {
