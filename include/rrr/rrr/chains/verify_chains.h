@@ -38,10 +38,10 @@ struct ChainsVerdict : ChainMaps<Pose> {
 //     the gate of e·(n−1) dof; the link that brings most goes while what
 //     it brings exceeds one link's gate, sought among the links whose
 //     first-order change of the minimum is not under the largest d² there,
-//     OwnAgreement). The links that went are refused once the
-//     links kept are accepted; if those are refused (here, or against the
-//     joined map by rule 3), the links that went are judged next as a
-//     cluster of their own.
+//     OwnAgreement). The links that went are refused once the links kept
+//     are accepted, or with them if no link stands out among links that do
+//     not agree; if the joined map refuses the links kept (rule 3), the
+//     links that went are judged next as a cluster of their own.
 //  2. Two chains are joined only by two independent clusters that agree
 //     (more than a clustering window apart on one chain at least: a revisit
 //     the clustering split, or one false group, is one piece of evidence):

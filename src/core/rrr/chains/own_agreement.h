@@ -26,8 +26,9 @@ struct PairCluster {
   int index;               // into Verdict::clusters
   std::vector<int> links;  // indices into the pair's candidates, kept so far
   // The links rule 1 took out one at a time, with their reasons: refused
-  // only once the kept links are accepted; if those are refused, they are
-  // judged again as a cluster of their own (OwnAgreement::KeepLeftOut).
+  // once the kept links are accepted, or refused as no group that agrees;
+  // if the joined map refuses those, they are judged again as a cluster of
+  // their own (OwnAgreement::KeepLeftOut).
   std::vector<std::pair<int, DecisionReason>> left_out;
 };
 
@@ -60,9 +61,9 @@ class OwnAgreement {
 
   // Rule 1 for `c`: returns whether links that agree remain (at least two),
   // with c->links those links and c->left_out the links taken out. If no
-  // link brings more than a link's gate, the cluster's links are refused
-  // (kOwn, by `refuse`) and those it took out judged in their place
-  // (KeepLeftOut).
+  // link brings more than a link's gate while the links do not agree, the
+  // cluster holds no group that agrees: its links are refused (kOwn, by
+  // `refuse`), and those it took out for what each brought.
   bool Keep(PairCluster* c, const Refuse& refuse) const {
     const int e = Pose::kDof;
     OwnMinimum own = Minimize(c->links);
@@ -94,7 +95,10 @@ class OwnAgreement {
         for (const int k : c->links) {
           refuse(k, {DecisionTest::kOwn, own.error, gate, group_scale_, dof});
         }
-        return KeepLeftOut(c, refuse);
+        c->links.clear();
+        for (const auto& [link, reason] : c->left_out) refuse(link, reason);
+        c->left_out.clear();
+        return false;
       }
       const auto at =
           c->links.begin() + static_cast<std::ptrdiff_t>(suspects[worst]);
@@ -106,10 +110,11 @@ class OwnAgreement {
     return false;
   }
 
-  // Once the kept links of `c` are refused: the links rule 1 took out of
-  // it, one at a time, become its links and are judged by Keep (taking out
-  // links one at a time can keep the wrong side of a cluster that mixes two
-  // groups). Returns whether links that agree remain (at least two).
+  // Once the joined map refuses the links of `c` that agree: the links rule
+  // 1 took out of it, one at a time, become its links and are judged by
+  // Keep (taking out links one at a time can keep the wrong side of a
+  // cluster that mixes two groups). Returns whether links that agree remain
+  // (at least two).
   bool KeepLeftOut(PairCluster* c, const Refuse& refuse) const {
     c->links.clear();
     for (const auto& taken : c->left_out) c->links.push_back(taken.first);
