@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The map procedure over several chains over time, as a fleet's node runs it
-(BENCHMARKS.md, "Several chains over time"): each synthetic dataset cut into
+(BENCHMARKS.md, "Several chains over time"): each dataset (synthetic/ or more/) cut into
 N chains (as bench/chains.py cuts it), with false loops between the chains
 (rrr spoil --between-chains), fed by bench/chains_online.cc robot by robot
 side by side with an update after every round. Prints the update times
@@ -43,12 +43,11 @@ def main():
         sys.exit(f"{ONLINE} not built: cmake --build _build --target chains_online")
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    data = common.datasets_dir() / "synthetic"
     print("| set | chains | candidates | accepted | maps | update median ms | p99 ms | max ms "
           "| Finish s | run s | = batch | batch s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name in args.datasets:
-        clean = data / f"{name}.g2o"
+        clean = common.dataset_path(name)
         if not clean.exists():
             print(f"{name}: {clean} not found, skipped", flush=True)
             continue

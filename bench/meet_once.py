@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Two robots that meet once (BENCHMARKS.md, "Several odometry chains"):
-a synthetic dataset cut into two chains (bench/chains.py's cut: the
+a dataset (synthetic/ or more/) cut into two chains (bench/chains.py's cut: the
 odometry edge at the middle removed, the second chain's estimates moved),
 of the loops between the chains only one revisit kept (the largest set of
 them joined by steps of at most --window poses at both ends, as RRR
@@ -43,14 +43,13 @@ def main():
     common.require_rrr()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    data = common.datasets_dir() / "synthetic"
 
     header = ("dataset", "kind", "false", "method", "true between", "accepted true", "accepted false",
               "outcome", "inside prec", "inside recall", "s")
     print(" ".join(f"{h:>14}" for h in header), flush=True)
     rows = []
     for name in args.datasets:
-        clean = data / f"{name}.g2o"
+        clean = common.dataset_path(name)
         if not clean.exists():
             print(f"{name}: {clean} not found, skipped", flush=True)
             continue
