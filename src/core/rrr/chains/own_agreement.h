@@ -73,7 +73,7 @@ class OwnAgreement {
       if (own.error < gate) return true;
       // The link that brings most: the error with it minus without it (the
       // errors without each suspect solved side by side).
-      const std::vector<size_t> suspects = Suspects(c->links, own.x);
+      const std::vector<size_t> suspects = Suspects(own);
       std::vector<OwnMinimum> without(suspects.size());
       if (c->links.size() > 2) {
         ForEachInParallel(suspects.size(), threads_, [&](size_t s) {
@@ -125,8 +125,9 @@ class OwnAgreement {
  private:
   // The minimum of the error of some links with the odometry alone.
   struct OwnMinimum {
+    PoseGraph<Pose> graph;  // Own(links)
     double error = 0.0;
-    std::vector<Pose> x;  // the poses of Own(links) there
+    std::vector<Pose> x;  // the poses of `graph` there
   };
 
   // The graph of `links` with the odometry alone: the stretches of both
@@ -153,11 +154,12 @@ class OwnAgreement {
   // relative pose of the chains free, from the first link's placement.
   OwnMinimum Minimize(const std::vector<int>& links) const {
     int first_of_b = 0;
-    const PoseGraph<Pose> own = Own(links, &first_of_b);
+    OwnMinimum minimum;
+    minimum.graph = Own(links, &first_of_b);
+    const PoseGraph<Pose>& own = minimum.graph;
     const PoseGraphSolver<Pose> solver(own, 1);
     const std::vector<Pose> start =
         PlacedBy(own.loops().front(), first_of_b, solver.initial());
-    OwnMinimum minimum;
     MinimizeResult result;
     minimum.x =
         solver.Optimize(AllLoops(own), ConvergenceOptions{}, &result, &start);
@@ -165,36 +167,34 @@ class OwnAgreement {
     return minimum;
   }
 
-  // The indices into `links` (more than two) of the links that may bring
-  // most at `x`, their minimum. What a link brings is at least its d² at
-  // `x`, and to first order it is its change of the minimum
+  // The indices into the links of `own` (their loops, in order) of those
+  // that may bring most. What a link brings is at least its d² at the
+  // minimum, and to first order it is its change of the minimum
   // (PoseGraphSolver::ChangesOfMinimum; exactly so for a linear problem):
   // a link whose change is under the largest d² is not searched. Every
-  // link if that change cannot be found.
-  std::vector<size_t> Suspects(const std::vector<int>& links,
-                               const std::vector<Pose>& x) const {
-    std::vector<size_t> all(links.size());
+  // link if there are two or fewer, or if that change cannot be found.
+  std::vector<size_t> Suspects(const OwnMinimum& own) const {
+    const PoseGraph<Pose>& graph = own.graph;
+    const size_t n = graph.loops().size();
+    std::vector<size_t> all(n);
     std::iota(all.begin(), all.end(), size_t{0});
-    if (links.size() <= 2) return all;
-    const PoseGraph<Pose> own = Own(links);
+    if (n <= 2) return all;
     std::vector<std::vector<int>> groups;
-    groups.reserve(links.size());
-    for (int k = 0; k < static_cast<int>(links.size()); ++k) {
-      groups.push_back({k});
-    }
+    groups.reserve(n);
+    for (int k = 0; k < static_cast<int>(n); ++k) groups.push_back({k});
     std::vector<double> changes;
-    if (!PoseGraphSolver<Pose>(own, 1).ChangesOfMinimum(AllLoops(own), groups,
-                                                        x, &changes)) {
+    if (!PoseGraphSolver<Pose>(graph, 1).ChangesOfMinimum(
+            AllLoops(graph), groups, own.x, &changes)) {
       return all;
     }
     size_t fits_worst = 0;
-    std::vector<double> d2(links.size());
-    for (size_t k = 0; k < links.size(); ++k) {
-      d2[k] = EdgeChi2(own.loops()[k], x);
+    std::vector<double> d2(n);
+    for (size_t k = 0; k < n; ++k) {
+      d2[k] = EdgeChi2(graph.loops()[k], own.x);
       if (d2[k] > d2[fits_worst]) fits_worst = k;
     }
     std::vector<size_t> suspects;
-    for (size_t k = 0; k < links.size(); ++k) {
+    for (size_t k = 0; k < n; ++k) {
       if (k == fits_worst || !(changes[k] < d2[fits_worst])) {
         suspects.push_back(k);
       }
