@@ -1,6 +1,11 @@
 // A state written as bytes and read back exactly: integers, doubles, poses
 // and lists of them, in the byte order of the machine that wrote them (a
 // checkpoint is read back by the program that keeps it).
+//
+// ByteWriter and ByteReader share Field and Size, so one function template
+// can describe a state for both ways and the two cannot disagree on its
+// layout: with a writer it writes each field, with a reader it reads each
+// into the same place (`what` names the field in the reader's errors).
 #ifndef RRR_IO_BYTE_STREAM_H_
 #define RRR_IO_BYTE_STREAM_H_
 
@@ -9,6 +14,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace rrr {
@@ -35,6 +41,32 @@ class ByteWriter {
   void Text(const std::string& text) {
     Int(static_cast<std::int64_t>(text.size()));
     bytes_ += text;
+  }
+  // An integer, bool, enum, double, text or list of ints or doubles.
+  template <class T>
+  void Field(const T& value, const char* /*what*/) {
+    if constexpr (std::is_same_v<T, std::vector<int>>) {
+      Ints(value);
+    } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+      Doubles(value);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      Text(value);
+    } else if constexpr (std::is_floating_point_v<T>) {
+      Double(value);
+    } else {
+      Int(static_cast<std::int64_t>(value));
+    }
+  }
+  // An enum whose values run from 0 to `last`.
+  template <class Enum>
+  void Field(const Enum& value, const char* what, Enum /*last*/) {
+    Field(value, what);
+  }
+  // The number of `items`, which the fields that follow describe.
+  template <class T>
+  void Size(const std::vector<T>& items, size_t /*item_bytes*/,
+            const char* /*what*/) {
+    Int(static_cast<std::int64_t>(items.size()));
   }
   const std::string& bytes() const { return bytes_; }
 
@@ -90,6 +122,40 @@ class ByteReader {
     std::string text = bytes_.substr(next_, n);
     next_ += n;
     return text;
+  }
+  // What ByteWriter::Field wrote of `value`'s type, into `value`.
+  template <class T>
+  void Field(T& value, const char* what) {
+    static_assert(!std::is_enum_v<T>, "an enum is read with its last value");
+    if constexpr (std::is_same_v<T, std::vector<int>>) {
+      value = Ints(what);
+    } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+      value = Doubles(what);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      value = Text(what);
+    } else if constexpr (std::is_floating_point_v<T>) {
+      value = Double(what);
+    } else if constexpr (std::is_same_v<T, bool>) {
+      value = Int(what) != 0;
+    } else {
+      value = static_cast<T>(Int(what));
+    }
+  }
+  // An enum value from 0 to `last`; throws std::runtime_error naming `what`
+  // if it is out of that range.
+  template <class Enum>
+  void Field(Enum& value, const char* what, Enum last) {
+    const std::int64_t v = Int(what);
+    if (v < 0 || v > static_cast<std::int64_t>(last)) {
+      throw std::runtime_error(std::string(what) + " has the unknown value " +
+                               std::to_string(v));
+    }
+    value = static_cast<Enum>(v);
+  }
+  // Resizes `items` to the count that follows (see Count).
+  template <class T>
+  void Size(std::vector<T>& items, size_t item_bytes, const char* what) {
+    items.resize(Count(what, item_bytes));
   }
   bool AtEnd() const { return next_ == bytes_.size(); }
 

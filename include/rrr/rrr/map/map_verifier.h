@@ -127,6 +127,12 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // the map (MaintainedMap::Try).
   enum class Against { kOdometry, kMap };
 
+  // map_verifier_state.cc: the members SaveState writes and RestoreState
+  // reads back, in order (Self: const MapVerifier to write, MapVerifier to
+  // read); the clustering, the chain, the map and the noise scale apart.
+  template <class Stream, class Self>
+  static void TransferState(Stream* io, Self* self);
+
   // map_verifier.cc: the record, the inputs and the map.
   std::vector<DecisionChange> Judge(bool finish);
   // Takes the graph's new poses up to index `until` in, and the new loops

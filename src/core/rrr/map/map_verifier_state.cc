@@ -1,5 +1,7 @@
 // MapVerifier's state written and read back (OnlineVerifier::SaveState).
+#include <cstdint>
 #include <stdexcept>
+#include <string>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -10,7 +12,7 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 5";
+constexpr char kStateFormat[] = "rrr map procedure state, version 6";
 
 // The options that the map procedure's decisions depend on, as bytes: a
 // state saved under others is not restored (those of the published
@@ -47,19 +49,43 @@ std::string OptionsOfState(ByteReader* in) {
   throw std::runtime_error("it is not a state of the map procedure");
 }
 
-// Reads `what`, a value of the enum of `last` from 0 to `last`. Throws
-// std::runtime_error naming it if it is out of that range.
-template <class Enum>
-Enum ReadEnum(ByteReader* in, Enum last, const char* what) {
-  const std::int64_t value = in->Int(what);
-  if (value < 0 || value > static_cast<std::int64_t>(last)) {
-    throw std::runtime_error(std::string(what) + " has the unknown value " +
-                             std::to_string(value));
-  }
-  return static_cast<Enum>(value);
-}
-
 }  // namespace
+
+template <class Pose>
+template <class Stream, class Self>
+void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
+  io->Size(self->records_, 4 * sizeof(std::int32_t), "cluster records");
+  for (auto& r : self->records_) {
+    io->Field(r.status, "a cluster's status", Status::kRefused);
+    io->Field(r.accepted, "a cluster's accepted links");
+    io->Field(r.ready_pose, "a cluster's ready pose");
+    io->Field(r.conflicts, "a cluster's conflicts");
+  }
+  io->Field(self->pending_, "the pending clusters");
+  io->Field(self->alone_chi2_, "the loops' errors alone");
+  io->Size(self->reasons_, 7 * sizeof(double), "the decisions' reasons");
+  for (auto& r : self->reasons_) {
+    io->Field(r.test, "a decision's test", DecisionTest::kOutweighed);
+    io->Field(r.statistic, "a decision's statistic");
+    io->Field(r.gate, "a decision's gate");
+    io->Field(r.scale, "a decision's scale");
+    io->Field(r.dof, "a decision's degrees of freedom");
+    io->Field(r.pose, "a decision's pose");
+    io->Field(r.by_cluster, "the cluster that outweighed a link");
+  }
+  io->Field(self->touched_, "the changed clusters");
+  io->Field(self->decision_pose_, "the decision pose");
+  io->Field(self->judged_until_, "the pose judged until");
+  io->Field(self->accepted_since_optimize_, "the acceptances since optimizing");
+  io->Field(self->accepted_clusters_, "the acceptances");
+  io->Field(self->arbiter_due_, "whether the arbiter is due");
+  auto& stats = self->stats_;
+  for (auto* v : {&stats.own_solves, &stats.trials, &stats.quick_accepts,
+                  &stats.reversals, &stats.rejudged, &stats.optimizations,
+                  &stats.not_converged}) {
+    io->Field(*v, "a statistic");
+  }
+}
 
 template <class Pose>
 std::string MapVerifier<Pose>::SaveState() const {
@@ -68,32 +94,11 @@ std::string MapVerifier<Pose>::SaveState() const {
   out.Text(DecisionOptions(options_, Pose::kDof));
   this->SaveRecord(&out);
   clustering_.Save(&out);
-  out.Int(static_cast<std::int64_t>(records_.size()));
-  for (const ClusterRecord& r : records_) {
-    out.Int(static_cast<std::int64_t>(r.status));
-    out.Ints(r.accepted);
-    out.Int(r.ready_pose);
-    out.Ints(r.conflicts);
-  }
-  out.Ints(pending_);
-  out.Doubles(alone_chi2_);
-  for (const DecisionReason& r : reasons_) {
-    out.Int(static_cast<std::int64_t>(r.test));
-    for (const double v : {r.statistic, r.gate, r.scale}) out.Double(v);
-    for (const int v : {r.dof, r.pose, r.by_cluster}) out.Int(v);
-  }
-  out.Ints(touched_);
+  TransferState(&out, this);
   out.Int(chain_.num_poses());
   out.Int(map_ ? 1 : 0);
   if (map_) map_->Save(&out);
   scale_.Save(&out);
-  for (const int v :
-       {decision_pose_, judged_until_, accepted_since_optimize_,
-        accepted_clusters_, static_cast<int>(arbiter_due_), stats_.own_solves,
-        stats_.trials, stats_.quick_accepts, stats_.reversals, stats_.rejudged,
-        stats_.optimizations, stats_.not_converged}) {
-    out.Int(v);
-  }
   return out.bytes();
 }
 
@@ -112,38 +117,24 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   this->RestoreRecord(&in);
   const PoseGraph<Pose>& graph = this->graph();
   clustering_.Restore(&in);
-  records_.resize(in.Count("cluster records", 4 * sizeof(std::int32_t)));
-  if (records_.size() != clustering_.clusters().size()) {
+  TransferState(&in, this);
+  const int clusters = static_cast<int>(clustering_.clusters().size());
+  if (static_cast<int>(records_.size()) != clusters ||
+      reasons_.size() != alone_chi2_.size()) {
     throw std::runtime_error(
         "the state has " + std::to_string(records_.size()) +
-        " cluster records for " +
-        std::to_string(clustering_.clusters().size()) + " clusters");
+        " cluster records for " + std::to_string(clusters) + " clusters and " +
+        std::to_string(reasons_.size()) + " reasons for " +
+        std::to_string(alone_chi2_.size()) + " loops");
   }
-  for (ClusterRecord& r : records_) {
-    r.status = ReadEnum(&in, Status::kRefused, "a cluster's status");
-    r.accepted = in.Ints("a cluster's accepted links");
-    r.ready_pose = static_cast<int>(in.Int("a cluster's ready pose"));
-    r.conflicts = in.Ints("a cluster's conflicts");
+  for (const ClusterRecord& r : records_) {
     for (const int a : r.conflicts) {
-      if (a < 0 || a >= static_cast<int>(records_.size())) {
+      if (a < 0 || a >= clusters) {
         throw std::runtime_error("a cluster's conflict names cluster " +
                                  std::to_string(a));
       }
     }
   }
-  pending_ = in.Ints("the pending clusters");
-  alone_chi2_ = in.Doubles("the loops' errors alone");
-  reasons_.resize(alone_chi2_.size());
-  for (DecisionReason& r : reasons_) {
-    r.test = ReadEnum(&in, DecisionTest::kOutweighed, "a decision's test");
-    for (double* v : {&r.statistic, &r.gate, &r.scale}) {
-      *v = in.Double("a decision's figure");
-    }
-    for (int* v : {&r.dof, &r.pose, &r.by_cluster}) {
-      *v = static_cast<int>(in.Int("a decision's figure"));
-    }
-  }
-  touched_ = in.Ints("the changed clusters");
   const std::int64_t chain_poses = in.Int("the chain's length");
   if (chain_poses < 1 || chain_poses > graph.num_poses()) {
     throw std::runtime_error(
@@ -160,16 +151,6 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
     map_->Restore(&in);
   }
   scale_.Restore(&in);
-  for (int* v : {&decision_pose_, &judged_until_, &accepted_since_optimize_,
-                 &accepted_clusters_}) {
-    *v = static_cast<int>(in.Int("a counter"));
-  }
-  arbiter_due_ = in.Int("whether the arbiter is due") != 0;
-  for (int* v : {&stats_.own_solves, &stats_.trials, &stats_.quick_accepts,
-                 &stats_.reversals, &stats_.rejudged, &stats_.optimizations,
-                 &stats_.not_converged}) {
-    *v = static_cast<int>(in.Int("a statistic"));
-  }
   if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");
 }
 
