@@ -334,6 +334,32 @@ TEST(RrrTool, SimulateVerifyEvaluateRoundTrip) {
   EXPECT_EQ(edges, 799 + r["accepted"].size());
 }
 
+TEST(RrrTool, VerifyNeedsOnlyItsInputAndPrintsItsCounts) {
+  const std::string world = Tmp("alone_world.g2o"), truth = Tmp("alone.txt"),
+                    gt = Tmp("alone_gt.g2o"), report = Tmp("alone_report.json");
+  ASSERT_EQ(Rrr("simulate --poses 600 --false-loops 10 -o " + world + " -t " +
+                truth + " --ground-truth " + gt)
+                .status,
+            0);
+  const Result alone = Rrr("verify " + world);
+  ASSERT_EQ(alone.status, 0) << alone.output;
+  // The default window is 10, as the command below gives it.
+  const Result full = Rrr("verify " + world + " -w 10 -r " + report);
+  ASSERT_EQ(full.status, 0) << full.output;
+  const nlohmann::json r = ReadJson(report);
+  const std::string counts =
+      "candidates " + std::to_string(r["candidates"].get<size_t>()) +
+      ", clusters " + std::to_string(r["clusters"].get<size_t>()) +
+      ", accepted " + std::to_string(r["accepted"].size()) + ", rejected " +
+      std::to_string(r["rejected"].size());
+  EXPECT_THAT(alone.output, HasSubstr(counts));
+  EXPECT_THAT(full.output, HasSubstr(counts));
+  // Another window clusters otherwise: the defaults are not the only ones.
+  const Result other_window = Rrr("verify " + world + " -w 30");
+  ASSERT_EQ(other_window.status, 0) << other_window.output;
+  EXPECT_THAT(other_window.output, ::testing::Not(HasSubstr(counts)));
+}
+
 TEST(RrrTool, EvaluateJudgesListedLoopsByTheMetricRuleToo) {
   const std::string world = Tmp("judged.g2o"), truth = Tmp("judged.txt"),
                     gt = Tmp("judged_gt.g2o"), out = Tmp("judged_out.g2o"),

@@ -4,7 +4,9 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "commands.h"
 #include "graph_file.h"
@@ -168,7 +170,9 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
 
-  WriteG2oFile(graph, map, verdict.accepted, args.output);
+  if (!args.output.empty()) {
+    WriteG2oFile(graph, map, verdict.accepted, args.output);
+  }
   nlohmann::json report;
   report["input"] = args.input;
   report["dimension"] = Pose::kTranslationDim;
@@ -209,9 +213,11 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
                              {"group", stats.group_noise_scale},
                              {"a_posteriori", stats.a_posteriori_scale}};
   }
-  std::ofstream out(args.report);
-  out << report.dump(1) << "\n";
-  if (!out) throw InputError(args.report, 0, "cannot write report");
+  if (!args.report.empty()) {
+    std::ofstream out(args.report);
+    out << report.dump(1) << "\n";
+    if (!out) throw InputError(args.report, 0, "cannot write report");
+  }
   std::cout << "candidates " << graph.loops().size() << ", clusters "
             << verdict.clusters.size() << ", accepted "
             << verdict.accepted.size() << ", rejected "
@@ -224,8 +230,9 @@ void AddVerifyCommand(CLI::App& app) {
   auto args = std::make_shared<VerifyArgs>();
   CLI::App* cmd = app.add_subcommand(
       "verify",
-      "Judge every loop candidate of a g2o file with RRR; write the optimized "
-      "graph with only the accepted loops, and a JSON report.");
+      "Judge every loop candidate of a g2o file with RRR and print how many "
+      "were accepted; write the optimized graph with only the accepted loops "
+      "(-o) and a JSON report of every decision (-r).");
   cmd->add_option("input", args->input,
                   "g2o file (2D or 3D), or a session database of rrr_node")
       ->required()
@@ -233,7 +240,7 @@ void AddVerifyCommand(CLI::App& app) {
   cmd->add_option("-w,--window", args->options.cluster_window,
                   "clustering window t in poses (10 for keyframe graphs, 50 "
                   "for Bicocca 25b)")
-      ->required();
+      ->capture_default_str();
   cmd->add_option("--method", args->method,
                   "rrr (this package; see --procedure), or for comparison "
                   "dcs (dynamic covariance scaling, phi 1), gnc (GNC with a "
@@ -289,10 +296,10 @@ void AddVerifyCommand(CLI::App& app) {
                 "definite or file without vertices instead of mending it; "
                 "keep duplicates and further edges between consecutive "
                 "poses");
-  cmd->add_option("-o,--output", args->output, "optimized g2o output")
-      ->required();
-  cmd->add_option("-r,--report", args->report, "JSON report output")
-      ->required();
+  cmd->add_option("-o,--output", args->output,
+                  "optimized g2o output (not written if not given)");
+  cmd->add_option("-r,--report", args->report,
+                  "JSON report output (not written if not given)");
   cmd->callback([args] {
     ParseProcedure(args->procedure, &args->options.procedure);
     if (args->trust_region) {
@@ -300,7 +307,11 @@ void AddVerifyCommand(CLI::App& app) {
     }
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
-    CheckOutputPaths({args->input}, {args->output, args->report});
+    std::vector<std::string> outputs;
+    for (const std::string& path : {args->output, args->report}) {
+      if (!path.empty()) outputs.push_back(path);
+    }
+    CheckOutputPaths({args->input}, outputs);
     // The map procedure and PCM judge a graph of several odometry chains,
     // joined or not; DCS and GNC-TLS weigh every edge of a connected one; the
     // published procedure needs one chain.
