@@ -54,7 +54,7 @@ std::string OptionsOfState(ByteReader* in) {
 template <class Pose>
 template <class Stream, class Self>
 void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
-  io->Size(self->records_, 4 * sizeof(std::int32_t), "cluster records");
+  io->Size(self->records_, 4 * sizeof(std::int64_t), "cluster records");
   for (auto& r : self->records_) {
     io->Field(r.status, "a cluster's status", Status::kRefused);
     io->Field(r.accepted, "a cluster's accepted links");
