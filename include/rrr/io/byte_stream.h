@@ -44,29 +44,29 @@ class ByteWriter {
   }
   // An integer, bool, enum, double, text or list of ints or doubles.
   template <class T>
-  void Field(const T& value, const char* /*what*/) {
+  void Field(const T* value, const char* /*what*/) {
     if constexpr (std::is_same_v<T, std::vector<int>>) {
-      Ints(value);
+      Ints(*value);
     } else if constexpr (std::is_same_v<T, std::vector<double>>) {
-      Doubles(value);
+      Doubles(*value);
     } else if constexpr (std::is_same_v<T, std::string>) {
-      Text(value);
+      Text(*value);
     } else if constexpr (std::is_floating_point_v<T>) {
-      Double(value);
+      Double(*value);
     } else {
-      Int(static_cast<std::int64_t>(value));
+      Int(static_cast<std::int64_t>(*value));
     }
   }
   // An enum whose values run from 0 to `last`.
   template <class Enum>
-  void Field(const Enum& value, const char* what, Enum /*last*/) {
+  void Field(const Enum* value, const char* what, Enum /*last*/) {
     Field(value, what);
   }
   // The number of `items`, which the fields that follow describe.
   template <class T>
-  void Size(const std::vector<T>& items, size_t /*item_bytes*/,
+  void Size(const std::vector<T>* items, size_t /*item_bytes*/,
             const char* /*what*/) {
-    Int(static_cast<std::int64_t>(items.size()));
+    Int(static_cast<std::int64_t>(items->size()));
   }
   const std::string& bytes() const { return bytes_; }
 
@@ -123,39 +123,39 @@ class ByteReader {
     next_ += n;
     return text;
   }
-  // What ByteWriter::Field wrote of `value`'s type, into `value`.
+  // What ByteWriter::Field wrote of `*value`'s type, into `*value`.
   template <class T>
-  void Field(T& value, const char* what) {
+  void Field(T* value, const char* what) {
     static_assert(!std::is_enum_v<T>, "an enum is read with its last value");
     if constexpr (std::is_same_v<T, std::vector<int>>) {
-      value = Ints(what);
+      *value = Ints(what);
     } else if constexpr (std::is_same_v<T, std::vector<double>>) {
-      value = Doubles(what);
+      *value = Doubles(what);
     } else if constexpr (std::is_same_v<T, std::string>) {
-      value = Text(what);
+      *value = Text(what);
     } else if constexpr (std::is_floating_point_v<T>) {
-      value = Double(what);
+      *value = Double(what);
     } else if constexpr (std::is_same_v<T, bool>) {
-      value = Int(what) != 0;
+      *value = Int(what) != 0;
     } else {
-      value = static_cast<T>(Int(what));
+      *value = static_cast<T>(Int(what));
     }
   }
   // An enum value from 0 to `last`; throws std::runtime_error naming `what`
   // if it is out of that range.
   template <class Enum>
-  void Field(Enum& value, const char* what, Enum last) {
+  void Field(Enum* value, const char* what, Enum last) {
     const std::int64_t v = Int(what);
     if (v < 0 || v > static_cast<std::int64_t>(last)) {
       throw std::runtime_error(std::string(what) + " has the unknown value " +
                                std::to_string(v));
     }
-    value = static_cast<Enum>(v);
+    *value = static_cast<Enum>(v);
   }
-  // Resizes `items` to the count that follows (see Count).
+  // Resizes `*items` to the count that follows (see Count).
   template <class T>
-  void Size(std::vector<T>& items, size_t item_bytes, const char* what) {
-    items.resize(Count(what, item_bytes));
+  void Size(std::vector<T>* items, size_t item_bytes, const char* what) {
+    items->resize(Count(what, item_bytes));
   }
   bool AtEnd() const { return next_ == bytes_.size(); }
 

@@ -26,15 +26,15 @@ struct Record {
 // The layout of a Record, for a writer (Self = const Record) or a reader.
 template <class Stream, class Self>
 void Transfer(Stream* io, Self* r) {
-  io->Field(r->count, "the count");
-  io->Field(r->open, "whether it is open");
-  io->Field(r->weight, "the weight");
-  io->Field(r->colour, "the colour", Colour::kBlue);
-  io->Field(r->name, "the name");
-  io->Field(r->ids, "the ids");
-  io->Field(r->values, "the values");
-  io->Size(r->history, sizeof(std::int64_t), "the history");
-  for (auto& c : r->history) io->Field(c, "a past colour", Colour::kBlue);
+  io->Field(&r->count, "the count");
+  io->Field(&r->open, "whether it is open");
+  io->Field(&r->weight, "the weight");
+  io->Field(&r->colour, "the colour", Colour::kBlue);
+  io->Field(&r->name, "the name");
+  io->Field(&r->ids, "the ids");
+  io->Field(&r->values, "the values");
+  io->Size(&r->history, sizeof(std::int64_t), "the history");
+  for (auto& c : r->history) io->Field(&c, "a past colour", Colour::kBlue);
 }
 
 std::string Written(const Record& r) {
@@ -71,11 +71,12 @@ TEST(ByteStream, AStateDescribedOnceReadsBackAsWritten) {
 
 TEST(ByteStream, AnEnumOutOfItsRangeIsRefusedNamingIt) {
   ByteWriter out;
-  out.Field(3, "a colour that does not exist");
+  const int three = 3;
+  out.Field(&three, "a colour that does not exist");
   ByteReader in(out.bytes());
   Colour c = Colour::kRed;
   try {
-    in.Field(c, "the colour", Colour::kBlue);
+    in.Field(&c, "the colour", Colour::kBlue);
     FAIL() << "read an unknown colour";
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), "the colour has the unknown value 3");

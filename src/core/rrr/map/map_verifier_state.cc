@@ -54,36 +54,37 @@ std::string OptionsOfState(ByteReader* in) {
 template <class Pose>
 template <class Stream, class Self>
 void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
-  io->Size(self->records_, 4 * sizeof(std::int64_t), "cluster records");
+  io->Size(&self->records_, 4 * sizeof(std::int64_t), "cluster records");
   for (auto& r : self->records_) {
-    io->Field(r.status, "a cluster's status", Status::kRefused);
-    io->Field(r.accepted, "a cluster's accepted links");
-    io->Field(r.ready_pose, "a cluster's ready pose");
-    io->Field(r.conflicts, "a cluster's conflicts");
+    io->Field(&r.status, "a cluster's status", Status::kRefused);
+    io->Field(&r.accepted, "a cluster's accepted links");
+    io->Field(&r.ready_pose, "a cluster's ready pose");
+    io->Field(&r.conflicts, "a cluster's conflicts");
   }
-  io->Field(self->pending_, "the pending clusters");
-  io->Field(self->alone_chi2_, "the loops' errors alone");
-  io->Size(self->reasons_, 7 * sizeof(double), "the decisions' reasons");
+  io->Field(&self->pending_, "the pending clusters");
+  io->Field(&self->alone_chi2_, "the loops' errors alone");
+  io->Size(&self->reasons_, 7 * sizeof(double), "the decisions' reasons");
   for (auto& r : self->reasons_) {
-    io->Field(r.test, "a decision's test", DecisionTest::kOutweighed);
-    io->Field(r.statistic, "a decision's statistic");
-    io->Field(r.gate, "a decision's gate");
-    io->Field(r.scale, "a decision's scale");
-    io->Field(r.dof, "a decision's degrees of freedom");
-    io->Field(r.pose, "a decision's pose");
-    io->Field(r.by_cluster, "the cluster that outweighed a link");
+    io->Field(&r.test, "a decision's test", DecisionTest::kOutweighed);
+    io->Field(&r.statistic, "a decision's statistic");
+    io->Field(&r.gate, "a decision's gate");
+    io->Field(&r.scale, "a decision's scale");
+    io->Field(&r.dof, "a decision's degrees of freedom");
+    io->Field(&r.pose, "a decision's pose");
+    io->Field(&r.by_cluster, "the cluster that outweighed a link");
   }
-  io->Field(self->touched_, "the changed clusters");
-  io->Field(self->decision_pose_, "the decision pose");
-  io->Field(self->judged_until_, "the pose judged until");
-  io->Field(self->accepted_since_optimize_, "the acceptances since optimizing");
-  io->Field(self->accepted_clusters_, "the acceptances");
-  io->Field(self->arbiter_due_, "whether the arbiter is due");
+  io->Field(&self->touched_, "the changed clusters");
+  io->Field(&self->decision_pose_, "the decision pose");
+  io->Field(&self->judged_until_, "the pose judged until");
+  io->Field(&self->accepted_since_optimize_,
+            "the acceptances since optimizing");
+  io->Field(&self->accepted_clusters_, "the acceptances");
+  io->Field(&self->arbiter_due_, "whether the arbiter is due");
   auto& stats = self->stats_;
   for (auto* v : {&stats.own_solves, &stats.trials, &stats.quick_accepts,
                   &stats.reversals, &stats.rejudged, &stats.optimizations,
                   &stats.not_converged}) {
-    io->Field(*v, "a statistic");
+    io->Field(v, "a statistic");
   }
 }
 
