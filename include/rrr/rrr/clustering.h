@@ -37,6 +37,11 @@ class Clustering {
   void Restore(ByteReader* in);
 
  private:
+  // The layout Save writes and Restore reads (Self: const Clustering to
+  // write, Clustering to read).
+  template <class Stream, class Self>
+  static void Transfer(Stream* io, Self* self);
+
   PoseId window_;
   std::vector<Cluster> clusters_;
 };

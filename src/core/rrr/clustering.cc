@@ -1,6 +1,7 @@
 #include "rrr/rrr/clustering.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <numeric>
 
@@ -31,27 +32,21 @@ int Clustering::Add(int loop, PoseId a, PoseId b) {
   return static_cast<int>(clusters_.size()) - 1;
 }
 
-void Clustering::Save(ByteWriter* out) const {
-  out->Int(static_cast<std::int64_t>(clusters_.size()));
-  for (const Cluster& c : clusters_) {
-    for (const PoseId id : {c.start_low, c.start_high, c.end_low, c.end_high}) {
-      out->Int(id);
+template <class Stream, class Self>
+void Clustering::Transfer(Stream* io, Self* self) {
+  io->Size(&self->clusters_, 5 * sizeof(std::int64_t), "clusters");
+  for (auto& c : self->clusters_) {
+    for (auto* id : {&c.start_low, &c.start_high, &c.end_low, &c.end_high}) {
+      io->Field(id, "a cluster's bounds");
     }
-    out->Ints(c.loops);
-    out->Int(c.closed ? 1 : 0);
+    io->Field(&c.loops, "a cluster's loops");
+    io->Field(&c.closed, "whether a cluster is closed");
   }
 }
 
-void Clustering::Restore(ByteReader* in) {
-  clusters_.resize(in->Count("clusters", 5 * sizeof(std::int64_t)));
-  for (Cluster& c : clusters_) {
-    for (PoseId* id : {&c.start_low, &c.start_high, &c.end_low, &c.end_high}) {
-      *id = in->Int("a cluster's bounds");
-    }
-    c.loops = in->Ints("a cluster's loops");
-    c.closed = in->Int("whether a cluster is closed") != 0;
-  }
-}
+void Clustering::Save(ByteWriter* out) const { Transfer(out, this); }
+
+void Clustering::Restore(ByteReader* in) { Transfer(in, this); }
 
 std::vector<Cluster> ClusterInBatchOrder(
     const std::vector<std::pair<PoseId, PoseId>>& loop_ends, PoseId window,
