@@ -157,9 +157,7 @@ void AddOptimizeCommand(CLI::App& app) {
                 "that is not positive definite or file without vertices "
                 "instead of mending it");
   cmd->callback([args] {
-    std::vector<std::string> outputs{args->output};
-    if (!args->report.empty()) outputs.push_back(args->report);
-    CheckOutputPaths({args->input}, outputs);
+    CheckOutputPaths({args->input}, {args->output, args->report});
     // Optimization needs no single odometry chain: a pose without odometry
     // to its predecessor starts from its estimate in the file.
     const G2oFile file =

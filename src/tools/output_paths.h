@@ -11,7 +11,8 @@ namespace rrr {
 // output (the same file by any name, symbolic links included) and that each
 // output can be written: an existing file must be writable, a new one's
 // folder must exist and be writable. Creates nothing. Throws InputError
-// naming the path and the problem.
+// naming the path and the problem. An empty path (an optional output not
+// asked for) is passed over.
 void CheckOutputPaths(const std::vector<std::string>& inputs,
                       const std::vector<std::string>& outputs);
 

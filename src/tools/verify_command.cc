@@ -307,11 +307,7 @@ void AddVerifyCommand(CLI::App& app) {
     }
     const std::string problem = args->options.Validate();
     if (!problem.empty()) throw CLI::ValidationError("verify", problem);
-    std::vector<std::string> outputs;
-    for (const std::string& path : {args->output, args->report}) {
-      if (!path.empty()) outputs.push_back(path);
-    }
-    CheckOutputPaths({args->input}, outputs);
+    CheckOutputPaths({args->input}, {args->output, args->report});
     // The map procedure and PCM judge a graph of several odometry chains,
     // joined or not; DCS and GNC-TLS weigh every edge of a connected one; the
     // published procedure needs one chain.
