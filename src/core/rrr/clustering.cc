@@ -34,7 +34,7 @@ int Clustering::Add(int loop, PoseId a, PoseId b) {
 
 template <class Stream, class Self>
 void Clustering::Transfer(Stream* io, Self* self) {
-  io->Size(&self->clusters_, 5 * sizeof(std::int64_t), "clusters");
+  io->Size(&self->clusters_, 6 * sizeof(std::int64_t), "clusters");
   for (auto& c : self->clusters_) {
     for (auto* id : {&c.start_low, &c.start_high, &c.end_low, &c.end_high}) {
       io->Field(id, "a cluster's bounds");
