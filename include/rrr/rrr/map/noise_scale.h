@@ -2,10 +2,10 @@
 #ifndef RRR_RRR_MAP_NOISE_SCALE_H_
 #define RRR_RRR_MAP_NOISE_SCALE_H_
 
+#include <cstdint>
 #include <ext/pb_ds/assoc_container.hpp>
 #include <ext/pb_ds/tree_policy.hpp>
 #include <functional>
-#include <map>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -110,6 +110,11 @@ class NoiseScaleEstimate {
       __gnu_pbds::tree<Ranked, __gnu_pbds::null_type, std::less<Ranked>,
                        __gnu_pbds::rb_tree_tag,
                        __gnu_pbds::tree_order_statistics_node_update>;
+  // The layout Save writes and Restore reads (Self: const
+  // NoiseScaleEstimate to write, NoiseScaleEstimate to read); `poses` is
+  // the count of pose indices the prior is recorded for.
+  template <class Stream, class Self>
+  static void Transfer(Stream* io, Self* self, std::int64_t* poses);
   void PutClusterSample(int cluster, double value, int links);
   // The median as ValueAt, and whether it is the prior's.
   std::pair<double, bool> Median(int pose) const;
@@ -123,7 +128,8 @@ class NoiseScaleEstimate {
   std::vector<size_t> waiting_;  // the others, as indices into loops_
   std::vector<double> prior_;    // per pose index
   std::vector<int> prior_samples_;  // per pose index, non-decreasing
-  std::map<int, std::pair<double, int>> clusters_;  // (error/dof, links)
+  // By cluster: (error per dof, links); 0 links if it has no sample.
+  std::vector<std::pair<double, int>> clusters_;
   RankedSet votes_;  // (error per dof, cluster, link) of the accepted links
 };
 

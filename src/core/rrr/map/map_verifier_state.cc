@@ -12,7 +12,7 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 6";
+constexpr char kStateFormat[] = "rrr map procedure state, version 7";
 
 // The options that the map procedure's decisions depend on, as bytes: a
 // state saved under others is not restored (those of the published

@@ -114,18 +114,19 @@ void NoiseScaleEstimate::SetClusterSample(int cluster, double error,
 }
 
 void NoiseScaleEstimate::RemoveClusterSample(int cluster) {
-  const auto it = clusters_.find(cluster);
-  if (it == clusters_.end()) return;
-  for (int k = 0; k < it->second.second; ++k) {
-    votes_.erase(Ranked(it->second.first, cluster, k));
-  }
-  clusters_.erase(it);
+  if (cluster >= static_cast<int>(clusters_.size())) return;
+  auto& [value, links] = clusters_[cluster];
+  for (int k = 0; k < links; ++k) votes_.erase(Ranked(value, cluster, k));
+  links = 0;
 }
 
 void NoiseScaleEstimate::PutClusterSample(int cluster, double value,
                                           int links) {
   RemoveClusterSample(cluster);
-  clusters_.emplace(cluster, std::make_pair(value, links));
+  if (cluster >= static_cast<int>(clusters_.size())) {
+    clusters_.resize(cluster + 1, {0.0, 0});
+  }
+  clusters_[cluster] = {value, links};
   for (int k = 0; k < links; ++k) votes_.insert(Ranked(value, cluster, k));
 }
 
@@ -141,46 +142,49 @@ void NoiseScaleEstimate::SetClusterSamplesAtMinimum(
   }
 }
 
-void NoiseScaleEstimate::Save(ByteWriter* out) const {
-  out->Int(static_cast<std::int64_t>(loops_.size()));
-  for (const auto& [arrival, value] : loops_) {
-    out->Int(arrival);
-    out->Double(value);
+template <class Stream, class Self>
+void NoiseScaleEstimate::Transfer(Stream* io, Self* self, std::int64_t* poses) {
+  io->Size(&self->loops_, 2 * sizeof(double), "loop samples");
+  for (auto& [arrival, value] : self->loops_) {
+    io->Field(&arrival, "a loop sample's arrival");
+    io->Field(&value, "a loop sample");
   }
-  out->Int(static_cast<std::int64_t>(recorded_loops_));
-  out->Int(static_cast<std::int64_t>(prior_.size()));
-  out->Int(static_cast<std::int64_t>(clusters_.size()));
-  for (const auto& [cluster, sample] : clusters_) {
-    out->Int(cluster);
-    out->Double(sample.first);
-    out->Int(sample.second);
+  io->Field(&self->recorded_loops_, "the loop samples recorded");
+  io->Field(poses, "the poses recorded");
+  io->Size(&self->clusters_, 2 * sizeof(double), "cluster samples");
+  for (auto& [value, links] : self->clusters_) {
+    io->Field(&value, "a cluster sample");
+    io->Field(&links, "a cluster sample's links");
   }
 }
 
+void NoiseScaleEstimate::Save(ByteWriter* out) const {
+  std::int64_t poses = static_cast<std::int64_t>(prior_.size());
+  Transfer(out, this, &poses);
+}
+
 void NoiseScaleEstimate::Restore(ByteReader* in) {
-  loops_.resize(in->Count("loop samples", 2 * sizeof(double)));
-  for (auto& [arrival, value] : loops_) {
-    arrival = static_cast<int>(in->Int("a loop sample's arrival"));
-    value = in->Double("a loop sample");
-  }
-  const std::int64_t recorded = in->Int("the loop samples recorded");
-  const std::int64_t poses = in->Int("the poses recorded");
-  if (recorded < 0 || recorded > static_cast<std::int64_t>(loops_.size()) ||
-      poses < 0) {
+  std::int64_t poses = 0;
+  Transfer(in, this, &poses);
+  if (recorded_loops_ > loops_.size() || poses < 0) {
     throw std::runtime_error("the noise scale's record does not fit its " +
                              std::to_string(loops_.size()) + " samples");
   }
-  const std::vector<std::pair<int, double>> all = std::move(loops_);
-  loops_.assign(all.begin(), all.begin() + recorded);
+  // The prior as recorded: RecordUntil over the samples it had taken in.
+  std::vector<std::pair<int, double>> all = std::move(loops_);
+  loops_.assign(all.begin(), all.begin() + recorded_loops_);
+  recorded_loops_ = 0;
   RecordUntil(static_cast<int>(poses));
-  loops_ = all;
-  const size_t n = in->Count("cluster samples", 3 * sizeof(double));
-  for (size_t k = 0; k < n; ++k) {
-    const int cluster = static_cast<int>(in->Int("a sample's cluster"));
-    const double value = in->Double("a cluster sample");
-    const std::int64_t links = in->Int("a cluster sample's links");
-    if (links < 1) throw std::runtime_error("a cluster sample has no links");
-    PutClusterSample(cluster, value, static_cast<int>(links));
+  loops_ = std::move(all);
+  for (size_t c = 0; c < clusters_.size(); ++c) {
+    const auto& [value, links] = clusters_[c];
+    if (links < 0) {
+      throw std::runtime_error("a cluster sample has " + std::to_string(links) +
+                               " links");
+    }
+    for (int k = 0; k < links; ++k) {
+      votes_.insert(Ranked(value, static_cast<int>(c), k));
+    }
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <random>
 
 namespace rrr {
@@ -127,6 +128,32 @@ TEST(NoiseScaleEstimate, SavedAndRestoredItDecidesTheSame) {
   }
   EXPECT_EQ(restored.FirstPoseWithEnoughLoops(),
             estimate.FirstPoseWithEnoughLoops());
+}
+
+TEST(NoiseScaleEstimate, ARestoredRecordThatCannotBeIsRefusedNamingWhy) {
+  const auto refusal = [](std::int64_t recorded, int links) {
+    ByteWriter out;
+    out.Int(1);  // one loop sample
+    out.Int(0);
+    out.Double(0.4);
+    out.Int(recorded);
+    out.Int(5);  // poses recorded
+    out.Int(1);  // one cluster sample
+    out.Double(0.2);
+    out.Int(links);
+    NoiseScaleEstimate estimate(3);
+    ByteReader in(out.bytes());
+    try {
+      estimate.Restore(&in);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("restored");
+  };
+  EXPECT_EQ(refusal(1, 4), "restored");
+  EXPECT_NE(refusal(2, 4).find("does not fit its 1 samples"),
+            std::string::npos);
+  EXPECT_NE(refusal(1, -3).find("has -3 links"), std::string::npos);
 }
 
 }  // namespace
