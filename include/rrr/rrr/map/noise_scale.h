@@ -99,9 +99,11 @@ class NoiseScaleEstimate {
                                   double map_chi2);
 
   // Writes the samples; Restore reads them into an estimate of the same
-  // residual_dim that has none, which then equals this one.
+  // residual_dim that has none, which then equals this one. Restore throws
+  // std::runtime_error naming the problem if the record cannot be one of a
+  // graph of `most_poses` poses.
   void Save(ByteWriter* out) const;
-  void Restore(ByteReader* in);
+  void Restore(ByteReader* in, int most_poses);
 
  private:
   // Values with ranks: (value, owner, copy) in an order-statistics tree.

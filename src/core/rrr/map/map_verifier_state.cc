@@ -151,7 +151,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
         graph, chain_, options_.convergence, options_.map_junctions);
     map_->Restore(&in);
   }
-  scale_.Restore(&in);
+  scale_.Restore(&in, graph.num_poses());
   if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");
 }
 

@@ -163,12 +163,20 @@ void NoiseScaleEstimate::Save(ByteWriter* out) const {
   Transfer(out, this, &poses);
 }
 
-void NoiseScaleEstimate::Restore(ByteReader* in) {
+void NoiseScaleEstimate::Restore(ByteReader* in, int most_poses) {
   std::int64_t poses = 0;
   Transfer(in, this, &poses);
-  if (recorded_loops_ > loops_.size() || poses < 0) {
-    throw std::runtime_error("the noise scale's record does not fit its " +
-                             std::to_string(loops_.size()) + " samples");
+  if (recorded_loops_ > loops_.size() || poses < 0 || poses > most_poses) {
+    throw std::runtime_error(
+        "the noise scale's record of " + std::to_string(poses) +
+        " poses does not fit its " + std::to_string(loops_.size()) +
+        " samples and a graph of " + std::to_string(most_poses) + " poses");
+  }
+  for (const auto& [arrival, value] : loops_) {
+    if (arrival < 0 || arrival > most_poses) {
+      throw std::runtime_error("a loop sample arrived with " +
+                               std::to_string(arrival) + " poses");
+    }
   }
   // The prior as recorded: RecordUntil over the samples it had taken in.
   std::vector<std::pair<int, double>> all = std::move(loops_);

@@ -12,8 +12,8 @@ namespace {
 std::vector<double> ScaledChiSquare(int n, int e, double scale, unsigned seed) {
   std::mt19937 rng(seed);
   std::chi_squared_distribution<double> chi2(e);
-  std::vector<double> out;
-  for (int k = 0; k < n; ++k) out.push_back(scale * chi2(rng));
+  std::vector<double> out(n);
+  for (double& v : out) v = scale * chi2(rng);
   return out;
 }
 
@@ -102,8 +102,8 @@ TEST(NoiseScaleEstimate, AcceptedLinksOutvoteThePriorAndAMinorityCannot) {
 
 TEST(NoiseScaleEstimate, SamplesAtTheMinimumCarryTheMapsErrorOverTheLoops) {
   NoiseScaleEstimate estimate(3);
-  std::vector<NoiseScaleEstimate::ClusterSample> at_minimum;
-  for (int c = 0; c < 10; ++c) at_minimum.push_back({c, 0.1 * 6, 2});
+  std::vector<NoiseScaleEstimate::ClusterSample> at_minimum(10);
+  for (int c = 0; c < 10; ++c) at_minimum[c] = {c, 0.1 * 6, 2};
   // The loops hold 6 of the map's 24: each sample counts four times.
   estimate.SetClusterSamplesAtMinimum(at_minimum, 24.0);
   EXPECT_DOUBLE_EQ(estimate.ValueAt(0), 0.4);
@@ -121,7 +121,7 @@ TEST(NoiseScaleEstimate, SavedAndRestoredItDecidesTheSame) {
   estimate.Save(&out);
   NoiseScaleEstimate restored(3);
   ByteReader in(out.bytes());
-  restored.Restore(&in);
+  restored.Restore(&in, 40);
   for (const int pose : {0, 3, 19, 40}) {
     EXPECT_EQ(restored.ValueAt(pose), estimate.ValueAt(pose)) << pose;
     EXPECT_EQ(restored.PriorAt(pose), estimate.PriorAt(pose)) << pose;
@@ -131,29 +131,34 @@ TEST(NoiseScaleEstimate, SavedAndRestoredItDecidesTheSame) {
 }
 
 TEST(NoiseScaleEstimate, ARestoredRecordThatCannotBeIsRefusedNamingWhy) {
-  const auto refusal = [](std::int64_t recorded, int links) {
+  const auto refusal = [](int arrival, std::int64_t recorded,
+                          std::int64_t poses, int links) {
     ByteWriter out;
     out.Int(1);  // one loop sample
-    out.Int(0);
+    out.Int(arrival);
     out.Double(0.4);
     out.Int(recorded);
-    out.Int(5);  // poses recorded
+    out.Int(poses);
     out.Int(1);  // one cluster sample
     out.Double(0.2);
     out.Int(links);
     NoiseScaleEstimate estimate(3);
     ByteReader in(out.bytes());
     try {
-      estimate.Restore(&in);
+      estimate.Restore(&in, 10);
     } catch (const std::runtime_error& e) {
       return std::string(e.what());
     }
     return std::string("restored");
   };
-  EXPECT_EQ(refusal(1, 4), "restored");
-  EXPECT_NE(refusal(2, 4).find("does not fit its 1 samples"),
+  EXPECT_EQ(refusal(0, 1, 5, 4), "restored");
+  EXPECT_NE(refusal(0, 2, 5, 4).find("does not fit its 1 samples"),
             std::string::npos);
-  EXPECT_NE(refusal(1, -3).find("has -3 links"), std::string::npos);
+  EXPECT_NE(refusal(0, 1, 11, 4).find("a graph of 10 poses"),
+            std::string::npos);
+  EXPECT_NE(refusal(-4, 1, 5, 4).find("arrived with -4 poses"),
+            std::string::npos);
+  EXPECT_NE(refusal(0, 1, 5, -3).find("has -3 links"), std::string::npos);
 }
 
 }  // namespace
