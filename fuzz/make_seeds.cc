@@ -1,8 +1,8 @@
 // Writes the seed corpora of the fuzz targets into DIR/<target>/: a small
 // generated world as g2o text, session databases recorded from it (2D and
-// 3D, and a fleet of two robots), and serialized LoopClosure and Odometry
-// messages. (scripts/fuzz.sh adds the first lines of the shared datasets when
-// they are there.)
+// 3D, and a fleet of two robots), serialized LoopClosure and Odometry
+// messages, and the map procedure's state saved part way. (scripts/fuzz.sh adds
+// the first lines of the shared datasets when they are there.)
 //
 //   make_seeds DIR
 #include <nav_msgs/Odometry.h>
@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "../src/core/testing/feed_poses.h"
 #include "../src/core/testing/noisy_chain.h"
+#include "../src/core/testing/small_ring.h"
 #include "../src/ros/msg_conversion.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
@@ -23,6 +25,7 @@
 #include "rrr/session/session_store.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/LoopClosure.h"
+#include "seed_world.h"
 
 namespace fs = std::filesystem;
 
@@ -128,15 +131,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path dir = argv[1];
-  for (const char* target : {"g2o_reader", "session_reader", "msg_conversion"})
+  for (const char* target :
+       {"g2o_reader", "session_reader", "msg_conversion", "map_state"})
     fs::create_directories(dir / target);
 
-  rrr::WorldOptions options;
-  options.poses = 120;
-  options.false_loops = 6;
-  options.group = 2;
-  const rrr::SimulatedWorld world = rrr::SimulateWorld(options);
-  const auto& g = world.graph;
+  const auto& g = rrr_fuzz::SeedWorld();
   rrr::WriteG2oFile(g, g.estimates(), rrr::AllLoops(g),
                     (dir / "g2o_reader" / "world2d.g2o").string());
   const rrr::PoseGraph<rrr::Pose3> g3 = rrr::testing::NoisyChain<rrr::Pose3>(
@@ -147,6 +146,15 @@ int main(int argc, char** argv) {
   WriteSession(g, 10, dir / "session_reader" / "world2d.db");
   WriteSession(g3, 40, dir / "session_reader" / "world3d.db");
   WriteFleetSession(g, 10, dir / "session_reader" / "fleet2d.db");
+
+  // The map procedure's state part way through SmallRing(), updated after
+  // each pose.
+  rrr::MapVerifier<rrr::Pose2> saver{rrr::RrrOptions()};
+  rrr::testing::FeedPoses(rrr::testing::SmallRing().graph, 0,
+                          rrr::testing::kSmallRingSavedPoses, &saver,
+                          [&](int) { saver.Update(); });
+  std::ofstream(dir / "map_state" / "world2d.state", std::ios::binary)
+      << saver.SaveState();
 
   rrr_slam::LoopClosure loop;
   loop.header.frame_id = "base_link";

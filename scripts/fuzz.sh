@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/: clang with AddressSanitizer and
 # UndefinedBehaviorSanitizer) into <build>/fuzz and runs each one: the g2o
-# reader, the session database reader and the node's message conversion.
+# reader, the session database reader, the node's message conversion and
+# the map procedure's saved state.
 # <build> is the catkin build of scripts/setup.sh (for the message headers):
 # RRR_BUILD_DIR, default _build.
 #
@@ -26,7 +27,7 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(g2o_reader session_reader msg_conversion)
+[ ${#targets[@]} -gt 0 ] || targets=(g2o_reader session_reader msg_conversion map_state)
 
 catkin_build=$(realpath "${RRR_BUILD_DIR:-_build}")
 build=$catkin_build/fuzz

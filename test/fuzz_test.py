@@ -16,7 +16,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 SECONDS = int(os.environ.get("FUZZ_SECONDS", "60"))
 
 
-@pytest.mark.parametrize("target", ["g2o_reader", "session_reader", "msg_conversion"])
+@pytest.mark.parametrize("target", ["g2o_reader", "session_reader", "msg_conversion", "map_state"])
 def test_fuzz_target_survives(target):
     result = subprocess.run(["bash", ROOT / "scripts" / "fuzz.sh", "--seconds", str(SECONDS),
                              target], capture_output=True, text=True, timeout=3600)

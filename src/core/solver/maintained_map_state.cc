@@ -1,6 +1,9 @@
 // MaintainedMap's state written and read back (Save, Restore).
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -67,6 +70,36 @@ void MaintainedMap<Pose>::Restore(ByteReader* in) {
     in_map_[k] = true;
     ++num_loops_;
   }
+  // What the map's operations rely on: every chain's first pose is a
+  // junction, no junction is held by a negative count of tries, and each of the
+  // map's loops is listed at the junctions of its two ends, once each.
+  std::vector<std::pair<int, int>> listed, ends;  // (junction, loop)
+  for (const auto& [pose, j] : junctions_) {
+    if (j.temporary < 0) {
+      throw std::runtime_error("the junction at pose " + std::to_string(pose) +
+                               " is held by " + std::to_string(j.temporary) +
+                               " tries");
+    }
+    for (const int k : j.loops) listed.emplace_back(pose, k);
+  }
+  for (size_t k = 0; k < in_map_.size(); ++k) {
+    if (!in_map_[k]) continue;
+    ends.emplace_back(graph_.loops()[k].from, static_cast<int>(k));
+    ends.emplace_back(graph_.loops()[k].to, static_cast<int>(k));
+  }
+  std::sort(listed.begin(), listed.end());
+  std::sort(ends.begin(), ends.end());
+  if (listed != ends) {
+    throw std::runtime_error(
+        "the map's junctions do not list its loops at their ends");
+  }
+  for (const int first : firsts_) {
+    if (junctions_.count(first) == 0) {
+      throw std::runtime_error("the map has no junction at pose " +
+                               std::to_string(first) +
+                               ", the first of a chain");
+    }
+  }
   last_trial_.reset();
   if (in->Int("whether a trial is kept") == 0) return;
   last_trial_ = std::make_unique<KeptTrial>();
@@ -77,6 +110,11 @@ void MaintainedMap<Pose>::Restore(ByteReader* in) {
   for (auto& [pose, x] : last_trial_->estimate) {
     pose = checked_pose(in->Int("a kept trial's pose"));
     x = in->template PoseParts<Pose>("a kept trial's estimate");
+    if (junctions_.count(pose) == 0) {
+      throw std::runtime_error("the kept trial places pose " +
+                               std::to_string(pose) +
+                               ", which is not a junction");
+    }
   }
 }
 

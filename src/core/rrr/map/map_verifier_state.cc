@@ -1,7 +1,9 @@
 // MapVerifier's state written and read back (OnlineVerifier::SaveState).
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -120,22 +122,55 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   clustering_.Restore(&in);
   TransferState(&in, this);
   const int clusters = static_cast<int>(clustering_.clusters().size());
+  const int loops = static_cast<int>(alone_chi2_.size());
   if (static_cast<int>(records_.size()) != clusters ||
-      reasons_.size() != alone_chi2_.size()) {
+      static_cast<int>(reasons_.size()) != loops ||
+      static_cast<int>(this->cluster_of_loop_.size()) != loops) {
     throw std::runtime_error(
         "the state has " + std::to_string(records_.size()) +
         " cluster records for " + std::to_string(clusters) + " clusters and " +
-        std::to_string(reasons_.size()) + " reasons for " +
-        std::to_string(alone_chi2_.size()) + " loops");
+        std::to_string(reasons_.size()) + " reasons and " +
+        std::to_string(this->cluster_of_loop_.size()) + " clusters of loops" +
+        " for " + std::to_string(loops) + " loops");
+  }
+  // Every index the state holds must name what the state has.
+  const auto within = [](int value, int low, int high, const char* what) {
+    if (value < low || value > high) {
+      throw std::runtime_error(
+          std::string(what) + " is " + std::to_string(value) + ", outside " +
+          std::to_string(low) + ".." + std::to_string(high));
+    }
+  };
+  const auto all_within = [&](const std::vector<int>& values, int count,
+                              const char* what) {
+    for (const int v : values) within(v, 0, count - 1, what);
+  };
+  const int poses = graph.num_poses();
+  all_within(this->cluster_of_loop_, clusters, "a loop's cluster");
+  for (const Cluster& c : clustering_.clusters()) {
+    all_within(c.loops, loops, "a cluster's loop");
   }
   for (const ClusterRecord& r : records_) {
-    for (const int a : r.conflicts) {
-      if (a < 0 || a >= clusters) {
-        throw std::runtime_error("a cluster's conflict names cluster " +
-                                 std::to_string(a));
-      }
+    all_within(r.accepted, loops, "an accepted link");
+    all_within(r.conflicts, clusters, "a cluster's conflict");
+    within(r.ready_pose, -1, poses - 1, "a cluster's ready pose");
+  }
+  const int most_dof = Pose::kDof * loops;
+  for (const DecisionReason& r : reasons_) {
+    within(r.by_cluster, -1, clusters - 1,
+           "the cluster that outweighed a link");
+    within(r.dof, 0, most_dof, "a decision's degrees of freedom");
+  }
+  for (const ClusterRecord& r : records_) {
+    for (const int loop : r.accepted) {
+      within(reasons_[loop].dof, Pose::kDof, most_dof,
+             "an accepted link's degrees of freedom");
     }
   }
+  all_within(pending_, clusters, "a pending cluster");
+  all_within(touched_, clusters, "a changed cluster");
+  within(judged_until_, -1, poses - 1, "the pose judged until");
+  within(decision_pose_, 0, std::max(poses - 1, 0), "the decision pose");
   const std::int64_t chain_poses = in.Int("the chain's length");
   if (chain_poses < 1 || chain_poses > graph.num_poses()) {
     throw std::runtime_error(

@@ -9,7 +9,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "../../testing/feed_poses.h"
 #include "../../testing/noisy_chain.h"
+#include "../../testing/small_ring.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/odometry_chain.h"
@@ -19,31 +21,6 @@
 
 namespace rrr {
 namespace {
-
-// Gives `verifier` the poses of `graph` from `first` to `last` - 1 and each
-// loop after its later pose (in arrival order), calling `after_pose` with
-// each pose index given.
-template <class Pose>
-void Feed(const PoseGraph<Pose>& graph, int first, int last,
-          OnlineVerifier<Pose>* verifier,
-          const std::function<void(int)>& after_pose) {
-  const OdometryChain<Pose> chain = ChainOf(graph);
-  for (int p = first; p < last; ++p) {
-    if (p == 0) {
-      verifier->AddFirstPose(graph.ids()[0], graph.estimates()[0]);
-    } else {
-      const Constraint<Pose> step = chain.Between(p - 1, p);
-      verifier->AddOdometry(step.measurement, step.information);
-    }
-    for (const auto& e : graph.loops()) {
-      if (std::max(e.from, e.to) == p) {
-        verifier->AddLoop(graph.ids()[e.from], graph.ids()[e.to], e.measurement,
-                          e.information);
-      }
-    }
-    if (after_pose) after_pose(p);
-  }
-}
 
 template <class Pose>
 bool SameBits(const std::vector<Pose>& a, const std::vector<Pose>& b) {
@@ -72,10 +49,10 @@ void ExpectRestoredVerifierDecidesAlike(const PoseGraph<Pose>& graph, int cut,
       if ((p + 1) % every == 0) v->Update();
     };
   };
-  Feed<Pose>(graph, 0, cut, &original, update_every(&original));
+  testing::FeedPoses<Pose>(graph, 0, cut, &original, update_every(&original));
   state = original.SaveState();
   ASSERT_FALSE(state.empty());
-  Feed<Pose>(graph, 0, cut, &restored, nullptr);
+  testing::FeedPoses<Pose>(graph, 0, cut, &restored, nullptr);
   ASSERT_TRUE(restored.SavedUnderSameOptions(state));
   restored.RestoreState(state);
   const std::string again = restored.SaveState();
@@ -85,8 +62,10 @@ void ExpectRestoredVerifierDecidesAlike(const PoseGraph<Pose>& graph, int cut,
                  .first -
              again.begin()
       << " of " << state.size();
-  Feed<Pose>(graph, cut, graph.num_poses(), &original, update_every(&original));
-  Feed<Pose>(graph, cut, graph.num_poses(), &restored, update_every(&restored));
+  testing::FeedPoses<Pose>(graph, cut, graph.num_poses(), &original,
+                           update_every(&original));
+  testing::FeedPoses<Pose>(graph, cut, graph.num_poses(), &restored,
+                           update_every(&restored));
   original.Finish();
   restored.Finish();
   int accepted = 0;
@@ -133,8 +112,9 @@ TEST(MapVerifierState, ARestoredVerifierDecidesAsTheOneThatSavedItIn3D) {
 std::string DefaultStateWithInputsTo(MapVerifier<Pose2>* other) {
   const SimulatedWorld w = GroupedWorld();
   MapVerifier<Pose2> saver{RrrOptions()};
-  Feed<Pose2>(w.graph, 0, 600, &saver, [&](int) { saver.Update(); });
-  Feed<Pose2>(w.graph, 0, 600, other, nullptr);
+  testing::FeedPoses<Pose2>(w.graph, 0, 600, &saver,
+                            [&](int) { saver.Update(); });
+  testing::FeedPoses<Pose2>(w.graph, 0, 600, other, nullptr);
   return saver.SaveState();
 }
 
@@ -176,11 +156,12 @@ TEST(MapVerifierState, AStateOfAnEarlierRuleIsNotRestored) {
 TEST(MapVerifierState, AStateOfOtherInputsOrCutShortIsRefusedNamingWhy) {
   const SimulatedWorld w = GroupedWorld();
   MapVerifier<Pose2> saver{RrrOptions()};
-  Feed<Pose2>(w.graph, 0, 600, &saver, [&](int) { saver.Update(); });
+  testing::FeedPoses<Pose2>(w.graph, 0, 600, &saver,
+                            [&](int) { saver.Update(); });
   const std::string state = saver.SaveState();
   const auto refusal = [&](int poses, const std::string& bytes) {
     MapVerifier<Pose2> verifier{RrrOptions()};
-    Feed<Pose2>(w.graph, 0, poses, &verifier, nullptr);
+    testing::FeedPoses<Pose2>(w.graph, 0, poses, &verifier, nullptr);
     try {
       verifier.RestoreState(bytes);
     } catch (const std::runtime_error& e) {
@@ -196,6 +177,37 @@ TEST(MapVerifierState, AStateOfOtherInputsOrCutShortIsRefusedNamingWhy) {
       << half;
   EXPECT_NE(refusal(600, "not a state").find("the format"), std::string::npos);
   EXPECT_NE(refusal(600, state + "x").find("past its end"), std::string::npos);
+}
+
+TEST(MapVerifierState, AStateWithAByteChangedIsRefusedOrFinishes) {
+  // A checkpoint read back from a damaged database: one byte of a state in
+  // turn (every 7th) set to 0xff, which makes a count, an index or a pose
+  // negative or far too large. Each is refused with std::runtime_error, or
+  // restores into a verifier that finishes and saves its state again.
+  const SimulatedWorld& w = testing::SmallRing();
+  constexpr int kSaved = testing::kSmallRingSavedPoses;
+  MapVerifier<Pose2> saver{RrrOptions()};
+  testing::FeedPoses<Pose2>(w.graph, 0, kSaved, &saver,
+                            [&](int) { saver.Update(); });
+  const std::string state = saver.SaveState();
+  int refused = 0, restored = 0;
+  for (size_t at = 0; at < state.size(); at += 7) {
+    std::string damaged = state;
+    damaged[at] = static_cast<char>(0xff);
+    MapVerifier<Pose2> verifier{RrrOptions()};
+    testing::FeedPoses<Pose2>(w.graph, 0, kSaved, &verifier);
+    try {
+      verifier.RestoreState(damaged);
+    } catch (const std::runtime_error&) {
+      ++refused;
+      continue;
+    }
+    ++restored;
+    EXPECT_NO_THROW(verifier.Finish()) << "byte " << at;
+    EXPECT_NO_THROW(verifier.SaveState()) << "byte " << at;
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(restored, 0);
 }
 
 TEST(MapVerifierState, ThePublishedProcedureSavesNoState) {
