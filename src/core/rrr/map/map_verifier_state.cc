@@ -186,6 +186,36 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
         graph, chain_, options_.convergence, options_.map_junctions);
     map_->Restore(&in);
   }
+  // Each loop is its cluster's, and the map holds exactly the links of the
+  // accepted clusters.
+  for (int c = 0; c < clusters; ++c) {
+    const ClusterRecord& r = records_[c];
+    if ((r.status == Status::kAccepted) == r.accepted.empty()) {
+      throw std::runtime_error("cluster " + std::to_string(c) + " has " +
+                               std::to_string(r.accepted.size()) +
+                               " accepted links in its state");
+    }
+    for (const auto* of : {&clustering_.clusters()[c].loops, &r.accepted}) {
+      for (const int loop : *of) {
+        if (this->cluster_of_loop_[loop] != c) {
+          throw std::runtime_error("cluster " + std::to_string(c) +
+                                   " names loop " + std::to_string(loop) +
+                                   " of another cluster");
+        }
+      }
+    }
+  }
+  for (int loop = 0; loop < loops; ++loop) {
+    const std::vector<int>& accepted =
+        records_[this->cluster_of_loop_[loop]].accepted;
+    const bool in_map = map_ && map_->Contains(loop);
+    if (in_map !=
+        (std::find(accepted.begin(), accepted.end(), loop) != accepted.end())) {
+      throw std::runtime_error("loop " + std::to_string(loop) + " is " +
+                               (in_map ? "in the map but not accepted"
+                                       : "accepted but not in the map"));
+    }
+  }
   scale_.Restore(&in, graph.num_poses());
   if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");
 }
