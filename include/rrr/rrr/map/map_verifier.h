@@ -132,6 +132,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // read); the clustering, the chain, the map and the noise scale apart.
   template <class Stream, class Self>
   static void TransferState(Stream* io, Self* self);
+  // Throws std::runtime_error naming the first thing the restored members
+  // hold that cannot be: an index, pose or dof out of range, or a map that
+  // does not hold exactly the accepted clusters' links.
+  void CheckRestored() const;
 
   // map_verifier.cc: the record, the inputs and the map.
   std::vector<DecisionChange> Judge(bool finish);

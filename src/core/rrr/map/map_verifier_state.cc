@@ -112,15 +112,7 @@ bool MapVerifier<Pose>::SavedUnderSameOptions(const std::string& state) const {
 }
 
 template <class Pose>
-void MapVerifier<Pose>::RestoreState(const std::string& state) {
-  ByteReader in(state);
-  if (OptionsOfState(&in) != DecisionOptions(options_, Pose::kDof)) {
-    throw std::runtime_error("the state was saved under other options");
-  }
-  this->RestoreRecord(&in);
-  const PoseGraph<Pose>& graph = this->graph();
-  clustering_.Restore(&in);
-  TransferState(&in, this);
+void MapVerifier<Pose>::CheckRestored() const {
   const int clusters = static_cast<int>(clustering_.clusters().size());
   const int loops = static_cast<int>(alone_chi2_.size());
   if (static_cast<int>(records_.size()) != clusters ||
@@ -145,7 +137,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
                               const char* what) {
     for (const int v : values) within(v, 0, count - 1, what);
   };
-  const int poses = graph.num_poses();
+  const int poses = this->graph().num_poses();
   all_within(this->cluster_of_loop_, clusters, "a loop's cluster");
   for (const Cluster& c : clustering_.clusters()) {
     all_within(c.loops, loops, "a cluster's loop");
@@ -171,21 +163,6 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   all_within(touched_, clusters, "a changed cluster");
   within(judged_until_, -1, poses - 1, "the pose judged until");
   within(decision_pose_, 0, std::max(poses - 1, 0), "the decision pose");
-  const std::int64_t chain_poses = in.Int("the chain's length");
-  if (chain_poses < 1 || chain_poses > graph.num_poses()) {
-    throw std::runtime_error(
-        "the state's chain has " + std::to_string(chain_poses) +
-        " poses, the graph " + std::to_string(graph.num_poses()));
-  }
-  for (int k = chain_.num_poses(); k < chain_poses; ++k) {
-    const auto& e = graph.odometry()[k - 1];
-    chain_.Append(e.measurement, e.information);
-  }
-  if (in.Int("whether there is a map") != 0) {
-    map_ = std::make_unique<MaintainedMap<Pose>>(
-        graph, chain_, options_.convergence, options_.map_junctions);
-    map_->Restore(&in);
-  }
   // Each loop is its cluster's, and the map holds exactly the links of the
   // accepted clusters.
   for (int c = 0; c < clusters; ++c) {
@@ -216,6 +193,34 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
                                        : "accepted but not in the map"));
     }
   }
+}
+
+template <class Pose>
+void MapVerifier<Pose>::RestoreState(const std::string& state) {
+  ByteReader in(state);
+  if (OptionsOfState(&in) != DecisionOptions(options_, Pose::kDof)) {
+    throw std::runtime_error("the state was saved under other options");
+  }
+  this->RestoreRecord(&in);
+  const PoseGraph<Pose>& graph = this->graph();
+  clustering_.Restore(&in);
+  TransferState(&in, this);
+  const std::int64_t chain_poses = in.Int("the chain's length");
+  if (chain_poses < 1 || chain_poses > graph.num_poses()) {
+    throw std::runtime_error(
+        "the state's chain has " + std::to_string(chain_poses) +
+        " poses, the graph " + std::to_string(graph.num_poses()));
+  }
+  for (int k = chain_.num_poses(); k < chain_poses; ++k) {
+    const auto& e = graph.odometry()[k - 1];
+    chain_.Append(e.measurement, e.information);
+  }
+  if (in.Int("whether there is a map") != 0) {
+    map_ = std::make_unique<MaintainedMap<Pose>>(
+        graph, chain_, options_.convergence, options_.map_junctions);
+    map_->Restore(&in);
+  }
+  CheckRestored();
   scale_.Restore(&in, graph.num_poses());
   if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");
 }
