@@ -25,7 +25,6 @@
 #include "rrr/session/session_store.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/LoopClosure.h"
-#include "seed_world.h"
 
 namespace fs = std::filesystem;
 
@@ -135,7 +134,12 @@ int main(int argc, char** argv) {
        {"g2o_reader", "session_reader", "msg_conversion", "map_state"})
     fs::create_directories(dir / target);
 
-  const auto& g = rrr_fuzz::SeedWorld();
+  rrr::WorldOptions options;
+  options.poses = 120;
+  options.false_loops = 6;
+  options.group = 2;
+  const rrr::SimulatedWorld world = rrr::SimulateWorld(options);
+  const auto& g = world.graph;
   rrr::WriteG2oFile(g, g.estimates(), rrr::AllLoops(g),
                     (dir / "g2o_reader" / "world2d.g2o").string());
   const rrr::PoseGraph<rrr::Pose3> g3 = rrr::testing::NoisyChain<rrr::Pose3>(

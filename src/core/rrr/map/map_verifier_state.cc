@@ -142,11 +142,6 @@ void MapVerifier<Pose>::CheckRestored() const {
   for (const Cluster& c : clustering_.clusters()) {
     all_within(c.loops, loops, "a cluster's loop");
   }
-  for (const ClusterRecord& r : records_) {
-    all_within(r.accepted, loops, "an accepted link");
-    all_within(r.conflicts, clusters, "a cluster's conflict");
-    within(r.ready_pose, -1, poses - 1, "a cluster's ready pose");
-  }
   const int most_dof = Pose::kDof * loops;
   for (const DecisionReason& r : reasons_) {
     within(r.by_cluster, -1, clusters - 1,
@@ -154,10 +149,13 @@ void MapVerifier<Pose>::CheckRestored() const {
     within(r.dof, 0, most_dof, "a decision's degrees of freedom");
   }
   for (const ClusterRecord& r : records_) {
+    all_within(r.accepted, loops, "an accepted link");
     for (const int loop : r.accepted) {
       within(reasons_[loop].dof, Pose::kDof, most_dof,
              "an accepted link's degrees of freedom");
     }
+    all_within(r.conflicts, clusters, "a cluster's conflict");
+    within(r.ready_pose, -1, poses - 1, "a cluster's ready pose");
   }
   all_within(pending_, clusters, "a pending cluster");
   all_within(touched_, clusters, "a changed cluster");
