@@ -80,7 +80,10 @@ class LocalProblem {
   // One Levenberg–Marquardt iteration (see TrustRegion): linearizes at `x`
   // and solves the damped system, raising the damping after each step that
   // would not decrease the error, until a step does; `x` then takes it.
-  // Sets the error at `x` before and after.
+  // After an undamped step, a minimum (kNoDecrease) is first looked for with
+  // that step's factor, H where it began, which near a minimum is H here to
+  // first order in the step: no factorization. Sets the error at `x` before
+  // and after.
   StepOutcome StepWithin(TrustRegion* region, std::vector<Pose>* x,
                          double* chi2_before, double* chi2_after);
   // Levenberg–Marquardt iterations until a step decreases the error by less
@@ -148,6 +151,9 @@ class LocalProblem {
   std::vector<Block> diagonal_;
   Eigen::VectorXd rhs_;
   Eigen::VectorXd scaling_;
+  // The factor holds H of the last linearization but one: StepWithin's
+  // last step was taken undamped.
+  bool undamped_factor_ = false;
 };
 
 }  // namespace rrr

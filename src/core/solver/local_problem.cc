@@ -56,6 +56,7 @@ void LocalProblem<Pose>::SetWeights(std::vector<double> weights) {
     }
   }
   weights_ = std::move(weights);
+  undamped_factor_ = false;
 }
 
 template <class Pose>
@@ -122,6 +123,7 @@ void LocalProblem<Pose>::Retract(const Eigen::VectorXd& delta,
 template <class Pose>
 bool LocalProblem<Pose>::Step(std::vector<Pose>* x) {
   if (free_.empty()) return true;
+  undamped_factor_ = false;
   Linearize(*x);
   Eigen::VectorXd delta;
   if (!SolveDamped(0.0, &delta)) return false;
@@ -142,12 +144,22 @@ StepOutcome LocalProblem<Pose>::StepWithin(TrustRegion* region,
   region->stationary = true;
   if (free_.empty()) return StepOutcome::kNoDecrease;
   const double chi2 = *chi2_before;
+  Eigen::VectorXd delta;
+  // After an undamped step the factor still holds H where that step began.
+  // Near a minimum H barely changes over a step, so the decrease it
+  // predicts here tells a minimum without factorizing again.
+  if (undamped_factor_) {
+    undamped_factor_ = false;
+    if (system_->SolveFactorized(rhs_, &delta) &&
+        !(delta.dot(rhs_) > region->relative_decrease * chi2)) {
+      return StepOutcome::kNoDecrease;
+    }
+  }
   const auto raise = [region] {
     region->damping = region->damping > 0.0 ? region->damping * region->growth
                                             : TrustRegion::kFirstDamping;
     region->growth *= 2.0;
   };
-  Eigen::VectorXd delta;
   std::vector<Pose> saved(free_.size());
   bool solved_any = false;
   for (int tries = 0; tries < kMaxTries; ++tries) {
@@ -178,6 +190,7 @@ StepOutcome LocalProblem<Pose>::StepWithin(TrustRegion* region,
         }
       }
       region->growth = 2.0;
+      undamped_factor_ = damping == 0.0;
       return StepOutcome::kTaken;
     }
     for (size_t b = 0; b < free_.size(); ++b) (*x)[free_[b]] = saved[b];
@@ -265,6 +278,7 @@ bool LocalProblem<Pose>::ChangesOfMinimum(
     const std::vector<Pose>& x, const std::vector<std::vector<int>>& groups,
     std::vector<double>* changes, std::vector<std::vector<double>>* without,
     const std::vector<double>& reach) {
+  undamped_factor_ = false;
   Linearize(x);
   // Each group's residuals r, Jᵀ by the blocks it touches, Σ ∓ J H⁻¹ Jᵀ and,
   // for a group in, y = (Σ − J H⁻¹ Jᵀ)⁻¹ r and the energy δᵀ H δ = yᵀ J H⁻¹

@@ -126,12 +126,12 @@ TEST(PoseGraphSolver, ConvergesToAStationaryPointIn3D) {
   EXPECT_LT(x[0].between(truth[0]).Log().norm(), 1e-12);
 }
 
-// A ring of 100 poses, radius 10 m, whose odometry turns with 0.5 rad of
-// noise per step, closed by loops across the ring: far from odometry, the
-// linear model of the first step is poor.
-PoseGraph<Pose2> NoisyRing(std::vector<int>* loops) {
+// A ring of 100 poses, radius 10 m, whose odometry turns with `turn` rad of
+// noise per step, closed by loops across the ring: with 0.5, far from
+// odometry, the linear model of the first step is poor.
+PoseGraph<Pose2> NoisyRing(std::vector<int>* loops, double turn = 0.5) {
   std::mt19937 rng(2);
-  std::normal_distribution<double> noise(0.0, 0.5);
+  std::normal_distribution<double> noise(0.0, turn);
   const int n = 100;
   std::vector<Pose2> truth;
   for (int k = 0; k < n; ++k) {
@@ -189,6 +189,25 @@ TEST(PoseGraphSolver, ConvergesWhereTheFirstGaussNewtonStepRaisesTheError) {
     y[k] = y[k] * Pose2(small(rng), small(rng), small(rng));
     EXPECT_GE(solver.Evaluate(loops, y).total_chi2, best - 1e-9) << k;
   }
+}
+
+// Undamped steps to a minimum, which is then told by the last step's factor
+// (no factorization at the point reached): judged afresh there, with its own
+// factor, it must still be one.
+TEST(PoseGraphSolver, AMinimumToldByTheLastFactorIsOneByItsOwn) {
+  std::vector<int> loops;
+  const PoseGraph<Pose2> g = NoisyRing(&loops, 0.05);
+  PoseGraphSolver<Pose2> solver(g, 1);
+  MinimizeResult first, again;
+  const std::vector<Pose2> x =
+      solver.Optimize(loops, ConvergenceOptions(), &first);
+  ASSERT_EQ(first.stop, StopReason::kStationary);
+  ASSERT_GT(first.iterations, 2);
+  const std::vector<Pose2> y =
+      solver.Optimize(loops, ConvergenceOptions(), &again, &x);
+  EXPECT_EQ(again.stop, StopReason::kStationary);
+  EXPECT_EQ(again.iterations, 0);
+  EXPECT_NEAR(again.final_chi2, first.final_chi2, 1e-12 * first.final_chi2);
 }
 
 TEST(PoseGraphSolver, ReportsWhenItStopsAtTheIterationLimit) {
