@@ -103,7 +103,9 @@ class MaintainedMap {
                  const std::function<bool(const MapTrial&)>& passes,
                  int* tries);
   // Adds the loops of the last Try() with the estimate it found, then
-  // relaxes as Relax(loops, 2 · its radius, significant). Throws
+  // relaxes as Relax(loops, 2 · its radius, significant): its own region is
+  // at its minimum already, twice the radius is the first wider one (the
+  // map is kept near its minimum, the premise of a trial's bound). Throws
   // std::logic_error if the map changed since (another Try, Add, Remove or
   // Optimize).
   void KeepTrial(double significant);
