@@ -203,8 +203,7 @@ TEST(PoseGraphSolver, AMinimumToldByTheLastFactorIsOneByItsOwn) {
       solver.Optimize(loops, ConvergenceOptions(), &first);
   ASSERT_EQ(first.stop, StopReason::kStationary);
   ASSERT_GT(first.iterations, 2);
-  const std::vector<Pose2> y =
-      solver.Optimize(loops, ConvergenceOptions(), &again, &x);
+  solver.Optimize(loops, ConvergenceOptions(), &again, &x);
   EXPECT_EQ(again.stop, StopReason::kStationary);
   EXPECT_EQ(again.iterations, 0);
   EXPECT_NEAR(again.final_chi2, first.final_chi2, 1e-12 * first.final_chi2);

@@ -1,6 +1,7 @@
 // MapVerifier's state written and read back (OnlineVerifier::SaveState).
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -161,14 +162,19 @@ void MapVerifier<Pose>::CheckRestored() const {
   all_within(touched_, clusters, "a changed cluster");
   within(judged_until_, -1, poses - 1, "the pose judged until");
   within(decision_pose_, 0, std::max(poses - 1, 0), "the decision pose");
-  // Each loop is its cluster's, and the map holds exactly the links of the
-  // accepted clusters.
+  // Each loop is its cluster's, accepted links ascend (the rule searches
+  // them), and the map holds exactly the links of the accepted clusters.
   for (int c = 0; c < clusters; ++c) {
     const ClusterRecord& r = records_[c];
     if ((r.status == Status::kAccepted) == r.accepted.empty()) {
       throw std::runtime_error("cluster " + std::to_string(c) + " has " +
                                std::to_string(r.accepted.size()) +
                                " accepted links in its state");
+    }
+    if (std::adjacent_find(r.accepted.begin(), r.accepted.end(),
+                           std::greater_equal<int>()) != r.accepted.end()) {
+      throw std::runtime_error("cluster " + std::to_string(c) +
+                               " lists its accepted links out of order");
     }
     for (const auto* of : {&clustering_.clusters()[c].loops, &r.accepted}) {
       for (const int loop : *of) {
@@ -184,8 +190,7 @@ void MapVerifier<Pose>::CheckRestored() const {
     const std::vector<int>& accepted =
         records_[this->cluster_of_loop_[loop]].accepted;
     const bool in_map = map_ && map_->Contains(loop);
-    if (in_map !=
-        (std::find(accepted.begin(), accepted.end(), loop) != accepted.end())) {
+    if (in_map != std::binary_search(accepted.begin(), accepted.end(), loop)) {
       throw std::runtime_error("loop " + std::to_string(loop) + " is " +
                                (in_map ? "in the map but not accepted"
                                        : "accepted but not in the map"));
