@@ -130,12 +130,14 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // map_verifier_state.cc: the members SaveState writes and RestoreState
   // reads back, in order (Self: const MapVerifier to write, MapVerifier to
   // read); the clustering, the chain, the map and the noise scale apart.
+  // The others follow from these, or are empty after every update.
   template <class Stream, class Self>
   static void TransferState(Stream* io, Self* self);
-  // Throws std::runtime_error naming the first thing the restored members
-  // hold that cannot be: an index, pose or dof out of range, or a map that
-  // does not hold exactly the accepted clusters' links.
-  void CheckRestored() const;
+  // Derives the accepted links (the map's) and the pending clusters of a
+  // restored state. Throws std::runtime_error naming the first thing the
+  // restored members hold that cannot be: an index, pose or dof out of
+  // range, or a map that does not hold exactly accepted clusters' links.
+  void CompleteRestored();
 
   // map_verifier.cc: the record, the inputs and the map.
   std::vector<DecisionChange> Judge(bool finish);
@@ -149,9 +151,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // The pose index at which pending cluster `c` is judged when the newest
   // pose is `newest`, or -1 if not yet.
   int DecisionPose(int c, int newest, bool finish) const;
-  // Records why `loop` is in its state, by `test` of `statistic` over
-  // `dof` (the gate and scale in force, and the decision pose).
-  void Record(int loop, DecisionTest test, double statistic, int dof);
+  // Records why `links` are in their state, by `test` of `statistic` over
+  // their dof together (the gate and scale in force, and the decision pose).
+  void Record(const std::vector<int>& links, DecisionTest test,
+              double statistic);
   // Accepts `links` of `c` (kMap, Δ `statistic`): with the estimate of the
   // last trial if `from_trial`, else added to the map.
   void Accept(int c, const std::vector<int>& links, double statistic,
@@ -171,8 +174,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::vector<DecisionChange> PublishStates();
 
   // map_rule.cc: parts 2 to 4 of the rule.
-  // s·χ²(α, dof) of a test against `against` for the decision being made.
-  double Gate(Against against, int dof) const;
+  // s·χ²(α, e·links) of a test of `links` links together against `against`
+  // for the decision being made.
+  double Gate(Against against, size_t links) const;
   // Part 2 (and 3) for cluster `c`, which is not in the map.
   void JudgeCluster(int c);
   // Part 2 against the map (and 3) for `links` of cluster `c` (not in the

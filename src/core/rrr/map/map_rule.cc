@@ -14,12 +14,11 @@
 namespace rrr {
 
 template <class Pose>
-double MapVerifier<Pose>::Gate(Against against, int dof) const {
-  const bool one_link_on_the_map =
-      against == Against::kMap && dof == Pose::kDof;
+double MapVerifier<Pose>::Gate(Against against, size_t links) const {
+  const bool one_link_on_the_map = against == Against::kMap && links == 1;
   return (one_link_on_the_map ? MapScaleAt(decision_pose_)
                               : GroupScaleAt(decision_pose_)) *
-         chi2_(dof);
+         chi2_(Pose::kDof * static_cast<int>(links));
 }
 
 template <class Pose>
@@ -29,9 +28,7 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
   if (against == Against::kMap) {
     ++stats_.trials;
     this->CountSolves(1);
-    trial =
-        map_->Try(links, options_.map_radius,
-                  Gate(against, Pose::kDof * static_cast<int>(links.size())));
+    trial = map_->Try(links, options_.map_radius, Gate(against, links.size()));
   } else {
     ++stats_.own_solves;
     this->CountSolves(1);
@@ -48,9 +45,9 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
 
 template <class Pose>
 bool MapVerifier<Pose>::Passes(const MapTrial& trial, Against against) const {
-  const double one_link = Gate(against, Pose::kDof);
-  const int dof = Pose::kDof * static_cast<int>(trial.loop_chi2.size());
-  return trial.minimize.solved && trial.increase < Gate(against, dof) &&
+  const double one_link = Gate(against, 1);
+  return trial.minimize.solved &&
+         trial.increase < Gate(against, trial.loop_chi2.size()) &&
          std::all_of(trial.loop_chi2.begin(), trial.loop_chi2.end(),
                      [&](double d2) { return d2 < one_link; });
 }
@@ -69,7 +66,6 @@ template <class Pose>
 std::vector<int> MapVerifier<Pose>::KeepAgreeing(std::vector<int> links,
                                                  Against against,
                                                  MapTrial* trial) {
-  const int e = Pose::kDof;
   const bool map = against == Against::kMap;
   while (!Passes(*trial, against) && trial->minimize.solved &&
          links.size() > 1) {
@@ -80,17 +76,15 @@ std::vector<int> MapVerifier<Pose>::KeepAgreeing(std::vector<int> links,
     rest.erase(rest.begin() + k);
     MapTrial without = Test(rest, against);
     const double brings = trial->increase - without.increase;
-    if (!without.minimize.solved || brings < Gate(against, e)) break;
-    Record(links[k], map ? DecisionTest::kMapLink : DecisionTest::kOwnLink,
-           brings, e);
+    if (!without.minimize.solved || brings < Gate(against, 1)) break;
+    Record({links[k]}, map ? DecisionTest::kMapLink : DecisionTest::kOwnLink,
+           brings);
     links = std::move(rest);
     *trial = std::move(without);
   }
   if (!Passes(*trial, against)) {
-    for (const int loop : links) {
-      Record(loop, map ? DecisionTest::kMap : DecisionTest::kOwn,
-             trial->increase, e * static_cast<int>(links.size()));
-    }
+    Record(links, map ? DecisionTest::kMap : DecisionTest::kOwn,
+           trial->increase);
     links.clear();
   }
   return links;
@@ -98,7 +92,6 @@ std::vector<int> MapVerifier<Pose>::KeepAgreeing(std::vector<int> links,
 
 template <class Pose>
 void MapVerifier<Pose>::JudgeCluster(int c) {
-  const int e = Pose::kDof;
   ClusterRecord& record = records_[c];
   record.status = Status::kRefused;
   record.accepted.clear();
@@ -106,8 +99,8 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
   touched_.push_back(c);
   std::vector<int> links;
   for (const int loop : clustering_.clusters()[c].loops) {
-    if (alone_chi2_[loop] >= Gate(Against::kOdometry, e)) {
-      Record(loop, DecisionTest::kAlone, alone_chi2_[loop], e);
+    if (alone_chi2_[loop] >= Gate(Against::kOdometry, 1)) {
+      Record({loop}, DecisionTest::kAlone, alone_chi2_[loop]);
     } else {
       links.push_back(loop);
     }
@@ -143,7 +136,6 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
 
 template <class Pose>
 void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
-  const int e = Pose::kDof;
   const MapTrial at_estimate = AtEstimate(links);
   if (Passes(at_estimate, Against::kMap)) {
     ++stats_.quick_accepts;
@@ -155,8 +147,8 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
     // A group may fail only by the region's held border.
     int tries = 0;
     const MapTrial wide = map_->Widen(
-        trial, links, options_.map_radius,
-        Gate(Against::kMap, e * static_cast<int>(links.size())), Significant(),
+        trial, links, options_.map_radius, Gate(Against::kMap, links.size()),
+        Significant(),
         [&](const MapTrial& t) { return Passes(t, Against::kMap); }, &tries);
     stats_.trials += tries;
     this->CountSolves(tries);
@@ -180,10 +172,7 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
   // The conflict's trials replaced the one to keep.
   trial = Test(kept, Against::kMap);
   if (!Passes(trial, Against::kMap)) {
-    const int dof = e * static_cast<int>(kept.size());
-    for (const int loop : kept) {
-      Record(loop, DecisionTest::kMap, trial.increase, dof);
-    }
+    Record(kept, DecisionTest::kMap, trial.increase);
     return;
   }
   Accept(c, kept, trial.increase, true);
@@ -193,13 +182,9 @@ template <class Pose>
 bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
                                  const MapTrial& failed, size_t kept) {
   if (!failed.minimize.solved) return false;
-  const int e = Pose::kDof;
-  const auto gate_of = [&](size_t n) {
-    return Gate(Against::kMap, e * static_cast<int>(n));
-  };
   // RRR's consistency index of the links in the joint solve: what they
   // bring to the map over their gate.
-  const double theirs = failed.increase / gate_of(links.size());
+  const double theirs = failed.increase / Gate(Against::kMap, links.size());
   // The accepted clusters whose links' errors the trial raised, the most
   // (over their gate) first.
   std::vector<std::pair<int, double>> rise;  // (cluster, Δd²)
@@ -213,7 +198,8 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
     double sum = 0.0;
     for (; k < rise.size() && rise[k].first == a; ++k) sum += rise[k].second;
     if (sum > 0.0) {
-      strained.emplace_back(sum / gate_of(records_[a].accepted.size()), a);
+      strained.emplace_back(
+          sum / Gate(Against::kMap, records_[a].accepted.size()), a);
     }
   }
   std::sort(strained.rbegin(), strained.rend());
@@ -241,7 +227,7 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
     const double brought =
         removed_brought + reasons_[accepted.front()].statistic;
     if ((brought + failed.increase) /
-            gate_of(removed_links + accepted.size()) <=
+            Gate(Against::kMap, removed_links + accepted.size()) <=
         theirs) {
       break;
     }
@@ -259,14 +245,13 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
     if (!Passes(without, Against::kMap)) continue;
     const double others =
         (removed_brought + failed.increase - without.increase) /
-        gate_of(removed_links);
+        Gate(Against::kMap, removed_links);
     if (others <= theirs) break;
     Accept(c, links, without.increase, true);
     for (const int r : removed) {
       ++stats_.reversals;
-      const int dof = e * static_cast<int>(records_[r].accepted.size());
+      Record(records_[r].accepted, DecisionTest::kOutweighed, others);
       for (const int loop : records_[r].accepted) {
-        Record(loop, DecisionTest::kOutweighed, others, dof);
         reasons_[loop].gate = theirs;
         reasons_[loop].by_cluster = c;
       }
@@ -296,15 +281,14 @@ void MapVerifier<Pose>::Arbitrate() {
 template <class Pose>
 bool MapVerifier<Pose>::InDoubt(int c) const {
   const ClusterRecord& record = records_[c];
-  const int e = Pose::kDof;
   for (const int loop : clustering_.clusters()[c].loops) {
     const DecisionReason& r = reasons_[loop];
     if (std::binary_search(record.accepted.begin(), record.accepted.end(),
                            loop)) {
-      if (r.statistic >= Gate(Against::kMap, r.dof)) return true;
+      if (r.statistic >= Gate(Against::kMap, r.dof / Pose::kDof)) return true;
     } else if (record.status != Status::kAccepted &&
                r.test == DecisionTest::kAlone &&
-               r.statistic < Gate(Against::kOdometry, e)) {
+               r.statistic < Gate(Against::kOdometry, 1)) {
       return true;
     }
   }
@@ -320,7 +304,6 @@ bool MapVerifier<Pose>::InDoubt(int c) const {
 
 template <class Pose>
 bool MapVerifier<Pose>::ArbitrateOnce() {
-  const int e = Pose::kDof;
   bool changed = false;
   for (size_t i = 0; i < records_.size(); ++i) {
     const int c = static_cast<int>(i);
@@ -339,8 +322,8 @@ bool MapVerifier<Pose>::ArbitrateOnce() {
     for (const int loop : clustering_.clusters()[c].loops) {
       if (!std::binary_search(record.accepted.begin(), record.accepted.end(),
                               loop) &&
-          alone_chi2_[loop] < Gate(Against::kOdometry, e) &&
-          map_->LoopChi2(loop) < Gate(Against::kMap, e)) {
+          alone_chi2_[loop] < Gate(Against::kOdometry, 1) &&
+          map_->LoopChi2(loop) < Gate(Against::kMap, 1)) {
         grown.push_back(loop);
       }
     }
@@ -355,7 +338,7 @@ bool MapVerifier<Pose>::ArbitrateOnce() {
 }
 
 #define RRR_INSTANTIATE_RULE(Pose)                                             \
-  template double MapVerifier<Pose>::Gate(Against, int) const;                 \
+  template double MapVerifier<Pose>::Gate(Against, size_t) const;              \
   template MapTrial MapVerifier<Pose>::Test(const std::vector<int>&, Against); \
   template bool MapVerifier<Pose>::Passes(const MapTrial&, Against) const;     \
   template MapTrial MapVerifier<Pose>::AtEstimate(const std::vector<int>&)     \

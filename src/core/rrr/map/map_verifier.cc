@@ -251,8 +251,8 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
     const ClusterRecord& record = records_[c];
     for (const int loop : clusters[c].loops) {
       LoopState state = LoopState::kPending;
-      if (std::find(record.accepted.begin(), record.accepted.end(), loop) !=
-          record.accepted.end()) {
+      if (std::binary_search(record.accepted.begin(), record.accepted.end(),
+                             loop)) {
         state = LoopState::kAccepted;
       } else if (record.status != Status::kPending) {
         state = LoopState::kRejected;
@@ -269,18 +269,21 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
 }
 
 template <class Pose>
-void MapVerifier<Pose>::Record(int loop, DecisionTest test, double statistic,
-                               int dof) {
+void MapVerifier<Pose>::Record(const std::vector<int>& links, DecisionTest test,
+                               double statistic) {
   const bool own = test == DecisionTest::kAlone ||
                    test == DecisionTest::kOwnLink || test == DecisionTest::kOwn;
-  DecisionReason& r = reasons_[loop];
-  r.test = test;
-  r.statistic = statistic;
-  r.dof = dof;
-  r.gate = Gate(own ? Against::kOdometry : Against::kMap, dof);
-  r.scale = r.gate / chi2_(dof);
-  r.pose = decision_pose_;
-  r.by_cluster = -1;
+  const int dof = Pose::kDof * static_cast<int>(links.size());
+  for (const int loop : links) {
+    DecisionReason& r = reasons_[loop];
+    r.test = test;
+    r.statistic = statistic;
+    r.dof = dof;
+    r.gate = Gate(own ? Against::kOdometry : Against::kMap, links.size());
+    r.scale = r.gate / chi2_(dof);
+    r.pose = decision_pose_;
+    r.by_cluster = -1;
+  }
 }
 
 template <class Pose>
@@ -295,8 +298,7 @@ void MapVerifier<Pose>::Accept(int c, const std::vector<int>& links,
   record.status = Status::kAccepted;
   record.accepted = links;
   std::sort(record.accepted.begin(), record.accepted.end());
-  const int dof = Pose::kDof * static_cast<int>(links.size());
-  for (const int loop : links) Record(loop, DecisionTest::kMap, statistic, dof);
+  Record(links, DecisionTest::kMap, statistic);
   scale_.SetClusterSample(c, statistic, static_cast<int>(links.size()));
   touched_.push_back(c);
   ++accepted_clusters_;

@@ -15,7 +15,7 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 7";
+constexpr char kStateFormat[] = "rrr map procedure state, version 8";
 
 // The options that the map procedure's decisions depend on, as bytes: a
 // state saved under others is not restored (those of the published
@@ -57,14 +57,12 @@ std::string OptionsOfState(ByteReader* in) {
 template <class Pose>
 template <class Stream, class Self>
 void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
-  io->Size(&self->records_, 4 * sizeof(std::int64_t), "cluster records");
+  io->Size(&self->records_, 3 * sizeof(std::int64_t), "cluster records");
   for (auto& r : self->records_) {
     io->Field(&r.status, "a cluster's status", Status::kRefused);
-    io->Field(&r.accepted, "a cluster's accepted links");
     io->Field(&r.ready_pose, "a cluster's ready pose");
     io->Field(&r.conflicts, "a cluster's conflicts");
   }
-  io->Field(&self->pending_, "the pending clusters");
   io->Field(&self->alone_chi2_, "the loops' errors alone");
   io->Size(&self->reasons_, 7 * sizeof(double), "the decisions' reasons");
   for (auto& r : self->reasons_) {
@@ -76,13 +74,10 @@ void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
     io->Field(&r.pose, "a decision's pose");
     io->Field(&r.by_cluster, "the cluster that outweighed a link");
   }
-  io->Field(&self->touched_, "the changed clusters");
-  io->Field(&self->decision_pose_, "the decision pose");
   io->Field(&self->judged_until_, "the pose judged until");
   io->Field(&self->accepted_since_optimize_,
             "the acceptances since optimizing");
   io->Field(&self->accepted_clusters_, "the acceptances");
-  io->Field(&self->arbiter_due_, "whether the arbiter is due");
   auto& stats = self->stats_;
   for (auto* v : {&stats.own_solves, &stats.trials, &stats.quick_accepts,
                   &stats.reversals, &stats.rejudged, &stats.optimizations,
@@ -113,7 +108,7 @@ bool MapVerifier<Pose>::SavedUnderSameOptions(const std::string& state) const {
 }
 
 template <class Pose>
-void MapVerifier<Pose>::CheckRestored() const {
+void MapVerifier<Pose>::CompleteRestored() {
   const int clusters = static_cast<int>(clustering_.clusters().size());
   const int loops = static_cast<int>(alone_chi2_.size());
   if (static_cast<int>(records_.size()) != clusters ||
@@ -134,14 +129,9 @@ void MapVerifier<Pose>::CheckRestored() const {
           std::to_string(low) + ".." + std::to_string(high));
     }
   };
-  const auto all_within = [&](const std::vector<int>& values, int count,
-                              const char* what) {
-    for (const int v : values) within(v, 0, count - 1, what);
-  };
   const int poses = this->graph().num_poses();
-  all_within(this->cluster_of_loop_, clusters, "a loop's cluster");
-  for (const Cluster& c : clustering_.clusters()) {
-    all_within(c.loops, loops, "a cluster's loop");
+  for (const int c : this->cluster_of_loop_) {
+    within(c, 0, clusters - 1, "a loop's cluster");
   }
   const int most_dof = Pose::kDof * loops;
   for (const DecisionReason& r : reasons_) {
@@ -150,51 +140,46 @@ void MapVerifier<Pose>::CheckRestored() const {
     within(r.dof, 0, most_dof, "a decision's degrees of freedom");
   }
   for (const ClusterRecord& r : records_) {
-    all_within(r.accepted, loops, "an accepted link");
-    for (const int loop : r.accepted) {
-      within(reasons_[loop].dof, Pose::kDof, most_dof,
-             "an accepted link's degrees of freedom");
+    for (const int a : r.conflicts) {
+      within(a, 0, clusters - 1, "a cluster's conflict");
     }
-    all_within(r.conflicts, clusters, "a cluster's conflict");
     within(r.ready_pose, -1, poses - 1, "a cluster's ready pose");
   }
-  all_within(pending_, clusters, "a pending cluster");
-  all_within(touched_, clusters, "a changed cluster");
   within(judged_until_, -1, poses - 1, "the pose judged until");
-  within(decision_pose_, 0, std::max(poses - 1, 0), "the decision pose");
-  // Each loop is its cluster's, accepted links ascend (the rule searches
-  // them), and the map holds exactly the links of the accepted clusters.
+  // Each cluster's loops are its own and ascend, and so do the accepted
+  // links taken from them (the rule binary-searches those).
+  int accepted = 0;
+  pending_.clear();
   for (int c = 0; c < clusters; ++c) {
-    const ClusterRecord& r = records_[c];
+    const std::vector<int>& of = clustering_.clusters()[c].loops;
+    ClusterRecord& r = records_[c];
+    r.accepted.clear();
+    for (size_t k = 0; k < of.size(); ++k) {
+      within(of[k], k == 0 ? 0 : of[k - 1] + 1, loops - 1,
+             "a cluster's loop (they ascend)");
+      if (this->cluster_of_loop_[of[k]] != c) {
+        throw std::runtime_error("cluster " + std::to_string(c) +
+                                 " names loop " + std::to_string(of[k]) +
+                                 " of another cluster");
+      }
+      if (map_ && map_->Contains(of[k])) {
+        within(reasons_[of[k]].dof, Pose::kDof, most_dof,
+               "an accepted link's degrees of freedom");
+        r.accepted.push_back(of[k]);
+      }
+    }
     if ((r.status == Status::kAccepted) == r.accepted.empty()) {
       throw std::runtime_error("cluster " + std::to_string(c) + " has " +
                                std::to_string(r.accepted.size()) +
-                               " accepted links in its state");
+                               " links in the map and another status");
     }
-    if (std::adjacent_find(r.accepted.begin(), r.accepted.end(),
-                           std::greater_equal<int>()) != r.accepted.end()) {
-      throw std::runtime_error("cluster " + std::to_string(c) +
-                               " lists its accepted links out of order");
-    }
-    for (const auto* of : {&clustering_.clusters()[c].loops, &r.accepted}) {
-      for (const int loop : *of) {
-        if (this->cluster_of_loop_[loop] != c) {
-          throw std::runtime_error("cluster " + std::to_string(c) +
-                                   " names loop " + std::to_string(loop) +
-                                   " of another cluster");
-        }
-      }
-    }
+    if (r.status == Status::kPending) pending_.push_back(c);
+    accepted += static_cast<int>(r.accepted.size());
   }
-  for (int loop = 0; loop < loops; ++loop) {
-    const std::vector<int>& accepted =
-        records_[this->cluster_of_loop_[loop]].accepted;
-    const bool in_map = map_ && map_->Contains(loop);
-    if (in_map != std::binary_search(accepted.begin(), accepted.end(), loop)) {
-      throw std::runtime_error("loop " + std::to_string(loop) + " is " +
-                               (in_map ? "in the map but not accepted"
-                                       : "accepted but not in the map"));
-    }
+  if (map_ && map_->num_loops() != accepted) {
+    throw std::runtime_error(
+        "the map holds " + std::to_string(map_->num_loops()) +
+        " loops, the clusters " + std::to_string(accepted));
   }
 }
 
@@ -223,7 +208,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
         graph, chain_, options_.convergence, options_.map_junctions);
     map_->Restore(&in);
   }
-  CheckRestored();
+  CompleteRestored();
   scale_.Restore(&in, graph.num_poses());
   if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");
 }
