@@ -271,19 +271,17 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
 template <class Pose>
 void MapVerifier<Pose>::Record(const std::vector<int>& links, DecisionTest test,
                                double statistic) {
+  if (links.empty()) return;
   const bool own = test == DecisionTest::kAlone ||
                    test == DecisionTest::kOwnLink || test == DecisionTest::kOwn;
-  const int dof = Pose::kDof * static_cast<int>(links.size());
-  for (const int loop : links) {
-    DecisionReason& r = reasons_[loop];
-    r.test = test;
-    r.statistic = statistic;
-    r.dof = dof;
-    r.gate = Gate(own ? Against::kOdometry : Against::kMap, links.size());
-    r.scale = r.gate / chi2_(dof);
-    r.pose = decision_pose_;
-    r.by_cluster = -1;
-  }
+  DecisionReason reason;
+  reason.test = test;
+  reason.statistic = statistic;
+  reason.dof = Pose::kDof * static_cast<int>(links.size());
+  reason.gate = Gate(own ? Against::kOdometry : Against::kMap, links.size());
+  reason.scale = reason.gate / chi2_(reason.dof);
+  reason.pose = decision_pose_;
+  for (const int loop : links) reasons_[loop] = reason;
 }
 
 template <class Pose>

@@ -1,7 +1,5 @@
 // MapVerifier's state written and read back (OnlineVerifier::SaveState).
-#include <algorithm>
 #include <cstdint>
-#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
