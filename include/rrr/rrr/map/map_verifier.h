@@ -113,6 +113,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   void RestoreState(const std::string& state) override;
 
  private:
+  // Edits the members into states no run saves, to test that restoring
+  // refuses them (map_verifier_state_test.cc).
+  friend class MapVerifierStatePeer;
+
   enum class Status { kPending, kAccepted, kRefused };
   struct ClusterRecord {
     Status status = Status::kPending;

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <functional>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "../../testing/feed_poses.h"
@@ -20,6 +22,35 @@
 #include "rrr/sim/simulated_world.h"
 
 namespace rrr {
+
+// Edits a verifier's members into what no run saves, so that a test can
+// check how restoring such a state is refused.
+class MapVerifierStatePeer {
+ public:
+  using Verifier = MapVerifier<Pose2>;
+  using Status = Verifier::Status;
+  static std::vector<Verifier::ClusterRecord>& records(Verifier* v) {
+    return v->records_;
+  }
+  static std::vector<DecisionReason>& reasons(Verifier* v) {
+    return v->reasons_;
+  }
+  static std::vector<int>& cluster_of_loop(Verifier* v) {
+    return v->cluster_of_loop_;
+  }
+  static int& judged_until(Verifier* v) { return v->judged_until_; }
+  // The first cluster with `status` and the first of its loops (-1, -1 if
+  // none).
+  static std::pair<int, int> FirstWith(const Verifier& v, Status status) {
+    for (size_t c = 0; c < v.records_.size(); ++c) {
+      if (v.records_[c].status == status) {
+        return {static_cast<int>(c), v.clustering_.clusters()[c].loops[0]};
+      }
+    }
+    return {-1, -1};
+  }
+};
+
 namespace {
 
 template <class Pose>
@@ -177,6 +208,91 @@ TEST(MapVerifierState, AStateOfOtherInputsOrCutShortIsRefusedNamingWhy) {
       << half;
   EXPECT_NE(refusal(600, "not a state").find("the format"), std::string::npos);
   EXPECT_NE(refusal(600, state + "x").find("past its end"), std::string::npos);
+}
+
+TEST(MapVerifierState, AStateThatContradictsItselfIsRefusedNamingWhat) {
+  // What a fault in a writer or a damaged database could hold: members
+  // that each read back but do not fit the rest of the state.
+  using Peer = MapVerifierStatePeer;
+  using Status = Peer::Status;
+  using Verifier = Peer::Verifier;
+  constexpr int kPoses = 600;
+  const SimulatedWorld w = GroupedWorld();
+  Verifier saver{RrrOptions()};
+  testing::FeedPoses<Pose2>(w.graph, 0, kPoses, &saver,
+                            [&](int) { saver.Update(); });
+  const std::string state = saver.SaveState();
+  const std::pair<int, int> first_accepted =
+      Peer::FirstWith(saver, Status::kAccepted);
+  const std::pair<int, int> first_refused =
+      Peer::FirstWith(saver, Status::kRefused);
+  const int accepted = first_accepted.first;
+  const int accepted_loop = first_accepted.second;
+  const int refused = first_refused.first;
+  const int refused_loop = first_refused.second;
+  ASSERT_GE(accepted, 0);
+  ASSERT_GE(refused, 0);
+  const int clusters = saver.num_clusters();
+  // What restoring the state says once `edit` changed it.
+  const auto refusal = [&](const std::function<void(Verifier*)>& edit) {
+    Verifier edited{RrrOptions()}, verifier{RrrOptions()};
+    testing::FeedPoses<Pose2>(w.graph, 0, kPoses, &edited);
+    testing::FeedPoses<Pose2>(w.graph, 0, kPoses, &verifier);
+    edited.RestoreState(state);
+    edit(&edited);
+    try {
+      verifier.RestoreState(edited.SaveState());
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("restored");
+  };
+  const auto expect_refusal = [&](const std::function<void(Verifier*)>& edit,
+                                  const std::string& named) {
+    const std::string said = refusal(edit);
+    EXPECT_NE(said.find(named), std::string::npos)
+        << "expected \"" << named << "\", got \"" << said << "\"";
+  };
+  EXPECT_EQ(refusal([](Verifier*) {}), "restored");
+  const std::string n = std::to_string(clusters);
+  expect_refusal(
+      [&](Verifier* v) {
+        Peer::records(v)[accepted].status = Status::kRefused;
+      },
+      "cluster " + std::to_string(accepted) + " has " +
+          std::to_string(Peer::records(&saver)[accepted].accepted.size()) +
+          " links in the map and another status");
+  expect_refusal(
+      [&](Verifier* v) {
+        Peer::records(v)[refused].status = Status::kAccepted;
+      },
+      "cluster " + std::to_string(refused) +
+          " has 0 links in the map and another status");
+  expect_refusal(
+      [&](Verifier* v) { Peer::cluster_of_loop(v)[accepted_loop] = refused; },
+      "cluster " + std::to_string(accepted) + " names loop " +
+          std::to_string(accepted_loop) + " of another cluster");
+  expect_refusal(
+      [&](Verifier* v) { Peer::cluster_of_loop(v)[refused_loop] = -1; },
+      "a loop's cluster is -1, outside 0.." + std::to_string(clusters - 1));
+  expect_refusal(
+      [&](Verifier* v) { Peer::records(v)[refused].ready_pose = kPoses; },
+      "a cluster's ready pose is 600, outside -1..599");
+  expect_refusal(
+      [&](Verifier* v) { Peer::records(v)[refused].conflicts = {clusters}; },
+      "a cluster's conflict is " + n + ", outside");
+  expect_refusal(
+      [&](Verifier* v) {
+        Peer::reasons(v)[refused_loop].by_cluster = clusters;
+      },
+      "the cluster that outweighed a link is " + n + ", outside -1..");
+  expect_refusal([&](Verifier* v) { Peer::reasons(v)[accepted_loop].dof = 0; },
+                 "an accepted link's degrees of freedom is 0, outside 3..");
+  expect_refusal([&](Verifier* v) { Peer::judged_until(v) = kPoses; },
+                 "the pose judged until is 600, outside -1..599");
+  expect_refusal([&](Verifier* v) { Peer::records(v).pop_back(); },
+                 "the state has " + std::to_string(clusters - 1) +
+                     " cluster records for " + n + " clusters");
 }
 
 TEST(MapVerifierState, AStateWithAByteChangedIsRefusedOrFinishes) {
