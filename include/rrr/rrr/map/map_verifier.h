@@ -122,10 +122,6 @@ class MapVerifier : public OnlineVerifier<Pose> {
     Status status = Status::kPending;
     std::vector<int> accepted;  // its links in the map, ascending
     int ready_pose = -1;        // pose index at which it became ready
-    // Refused against the map: the accepted clusters that its failed trial
-    // strained (or that outweighed it), ascending. It is judged again once
-    // one of them is out of the map.
-    std::vector<int> conflicts;
   };
   // What links are tested against: the odometry alone (SolveCondensed) or
   // the map (MaintainedMap::Try).
@@ -200,8 +196,7 @@ class MapVerifier : public OnlineVerifier<Pose> {
   MapTrial AtEstimate(const std::vector<int>& links) const;
   // Part 3 for `links` of `c`, which failed `failed`, of which part 2 keeps
   // `kept`: returns whether they were accepted in place of accepted
-  // clusters with fewer links in all than the difference. Records the
-  // clusters the failure strained as c's conflicts (part 4).
+  // clusters with fewer links in all than the difference.
   bool Outweigh(int c, const std::vector<int>& links, const MapTrial& failed,
                 size_t kept);
   // Part 4, until nothing changes.

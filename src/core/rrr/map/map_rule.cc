@@ -95,7 +95,6 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
   ClusterRecord& record = records_[c];
   record.status = Status::kRefused;
   record.accepted.clear();
-  record.conflicts.clear();
   touched_.push_back(c);
   std::vector<int> links;
   for (const int loop : clustering_.clusters()[c].loops) {
@@ -203,9 +202,6 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
     }
   }
   std::sort(strained.rbegin(), strained.rend());
-  std::vector<int>& conflicts = records_[c].conflicts;
-  for (const auto& [strain, a] : strained) conflicts.push_back(a);
-  std::sort(conflicts.begin(), conflicts.end());
   // Set aside in turn while the links do not fit. A cluster whose removal
   // does not lower the links' Δ by more than Significant() is not in the
   // conflict (the failed trial strains the true clusters a false group bent
@@ -257,7 +253,6 @@ bool MapVerifier<Pose>::Outweigh(int c, const std::vector<int>& links,
       }
       records_[r].status = Status::kRefused;
       records_[r].accepted.clear();
-      records_[r].conflicts = {c};
       scale_.RemoveClusterSample(r);
       touched_.push_back(r);
     }
@@ -291,12 +286,6 @@ bool MapVerifier<Pose>::InDoubt(int c) const {
                r.statistic < Gate(Against::kOdometry, 1)) {
       return true;
     }
-  }
-  if (record.status == Status::kRefused &&
-      std::any_of(record.conflicts.begin(), record.conflicts.end(), [&](int a) {
-        return records_[a].status != Status::kAccepted;
-      })) {
-    return true;
   }
   return record.status == Status::kAccepted &&
          !Passes(AtEstimate(record.accepted), Against::kMap);

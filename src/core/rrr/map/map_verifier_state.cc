@@ -13,7 +13,7 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 8";
+constexpr char kStateFormat[] = "rrr map procedure state, version 9";
 
 // The options that the map procedure's decisions depend on, as bytes: a
 // state saved under others is not restored (those of the published
@@ -55,11 +55,10 @@ std::string OptionsOfState(ByteReader* in) {
 template <class Pose>
 template <class Stream, class Self>
 void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
-  io->Size(&self->records_, 3 * sizeof(std::int64_t), "cluster records");
+  io->Size(&self->records_, 2 * sizeof(std::int64_t), "cluster records");
   for (auto& r : self->records_) {
     io->Field(&r.status, "a cluster's status", Status::kRefused);
     io->Field(&r.ready_pose, "a cluster's ready pose");
-    io->Field(&r.conflicts, "a cluster's conflicts");
   }
   io->Field(&self->alone_chi2_, "the loops' errors alone");
   io->Size(&self->reasons_, 7 * sizeof(double), "the decisions' reasons");
@@ -138,9 +137,6 @@ void MapVerifier<Pose>::CompleteRestored() {
     within(r.dof, 0, most_dof, "a decision's degrees of freedom");
   }
   for (const ClusterRecord& r : records_) {
-    for (const int a : r.conflicts) {
-      within(a, 0, clusters - 1, "a cluster's conflict");
-    }
     within(r.ready_pose, -1, poses - 1, "a cluster's ready pose");
   }
   within(judged_until_, -1, poses - 1, "the pose judged until");

@@ -279,9 +279,6 @@ TEST(MapVerifierState, AStateThatContradictsItselfIsRefusedNamingWhat) {
       [&](Verifier* v) { Peer::records(v)[refused].ready_pose = kPoses; },
       "a cluster's ready pose is 600, outside -1..599");
   expect_refusal(
-      [&](Verifier* v) { Peer::records(v)[refused].conflicts = {clusters}; },
-      "a cluster's conflict is " + n + ", outside");
-  expect_refusal(
       [&](Verifier* v) {
         Peer::reasons(v)[refused_loop].by_cluster = clusters;
       },

@@ -146,9 +146,9 @@ class StretchOfACity : public ::testing::Test {
 
 // Poses 7500-9999 + 250: a false group is accepted first, the true
 // revisits of those streets that come next are refused against the map it
-// bent, and the arbiter later drops it. Those revisits are judged again
-// then: a refusal against the map holds only while the clusters it
-// conflicted with are in the map (recall 0.906 when they stayed refused).
+// bent, and the arbiter later drops it. Those revisits come back once the
+// map without the group fits them (recall 0.906 under an early rule that
+// left them refused).
 TEST_F(StretchOfACity, JudgesAgainTheRevisitsAFalseGroupHeldOut) {
   const LoopScores scores = ScoreCityStretch(7500, 9999, 250, 4);
   EXPECT_EQ(scores.precision(), 1.0);
