@@ -155,10 +155,6 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
       Accept(c, links, wide.increase, true);
       return;
     }
-    // Each trial left its region at its minimum without the links: tried
-    // again on the map so relaxed, and what each link brings (KeepAgreeing)
-    // is measured on one map.
-    trial = Test(links, Against::kMap);
   }
   if (Passes(trial, Against::kMap)) {
     Accept(c, links, trial.increase, true);
