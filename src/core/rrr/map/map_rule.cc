@@ -272,19 +272,17 @@ void MapVerifier<Pose>::Arbitrate() {
 template <class Pose>
 bool MapVerifier<Pose>::InDoubt(int c) const {
   const ClusterRecord& record = records_[c];
-  for (const int loop : clustering_.clusters()[c].loops) {
-    const DecisionReason& r = reasons_[loop];
-    if (std::binary_search(record.accepted.begin(), record.accepted.end(),
-                           loop)) {
-      if (r.statistic >= Gate(Against::kMap, r.dof / Pose::kDof)) return true;
-    } else if (record.status != Status::kAccepted &&
-               r.test == DecisionTest::kAlone &&
-               r.statistic < Gate(Against::kOdometry, 1)) {
-      return true;
-    }
+  if (record.status == Status::kAccepted) {
+    // Its links were accepted together, with one reason: their Δ.
+    const double delta = reasons_[record.accepted.front()].statistic;
+    return delta >= Gate(Against::kMap, record.accepted.size()) ||
+           !Passes(AtEstimate(record.accepted), Against::kMap);
   }
-  return record.status == Status::kAccepted &&
-         !Passes(AtEstimate(record.accepted), Against::kMap);
+  const auto& loops = clustering_.clusters()[c].loops;
+  return std::any_of(loops.begin(), loops.end(), [&](int loop) {
+    return reasons_[loop].test == DecisionTest::kAlone &&
+           reasons_[loop].statistic < Gate(Against::kOdometry, 1);
+  });
 }
 
 template <class Pose>

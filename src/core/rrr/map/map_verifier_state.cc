@@ -156,11 +156,7 @@ void MapVerifier<Pose>::CompleteRestored() {
                                  " names loop " + std::to_string(of[k]) +
                                  " of another cluster");
       }
-      if (map_ && map_->Contains(of[k])) {
-        within(reasons_[of[k]].dof, Pose::kDof, most_dof,
-               "an accepted link's degrees of freedom");
-        r.accepted.push_back(of[k]);
-      }
+      if (map_ && map_->Contains(of[k])) r.accepted.push_back(of[k]);
     }
     if ((r.status == Status::kAccepted) == r.accepted.empty()) {
       throw std::runtime_error("cluster " + std::to_string(c) + " has " +

@@ -283,8 +283,8 @@ TEST(MapVerifierState, AStateThatContradictsItselfIsRefusedNamingWhat) {
         Peer::reasons(v)[refused_loop].by_cluster = clusters;
       },
       "the cluster that outweighed a link is " + n + ", outside -1..");
-  expect_refusal([&](Verifier* v) { Peer::reasons(v)[accepted_loop].dof = 0; },
-                 "an accepted link's degrees of freedom is 0, outside 3..");
+  expect_refusal([&](Verifier* v) { Peer::reasons(v)[accepted_loop].dof = -1; },
+                 "a decision's degrees of freedom is -1, outside 0..");
   expect_refusal([&](Verifier* v) { Peer::judged_until(v) = kPoses; },
                  "the pose judged until is 600, outside -1..599");
   expect_refusal([&](Verifier* v) { Peer::records(v).pop_back(); },
