@@ -39,6 +39,30 @@ class MapVerifierStatePeer {
     return v->cluster_of_loop_;
   }
   static int& judged_until(Verifier* v) { return v->judged_until_; }
+  static const std::vector<Cluster>& clusters(const Verifier& v) {
+    return v.clustering_.clusters();
+  }
+  // Builds the clustering again, cluster by cluster, each from the loops
+  // `edit` leaves in its list, in that order (closed once built). Throws
+  // std::logic_error if a loop no longer joins its cluster.
+  static void Recluster(
+      Verifier* v, const std::function<void(int, std::vector<int>*)>& edit) {
+    Clustering rebuilt(v->options_.cluster_window);
+    const PoseGraph<Pose2>& graph = v->graph();
+    for (int c = 0; c < v->num_clusters(); ++c) {
+      std::vector<int> loops = v->clustering_.clusters()[c].loops;
+      edit(c, &loops);
+      for (const int loop : loops) {
+        const auto& e = graph.loops()[loop];
+        if (rebuilt.Add(loop, graph.ids()[e.from], graph.ids()[e.to]) != c) {
+          throw std::logic_error("loop " + std::to_string(loop) +
+                                 " leaves cluster " + std::to_string(c));
+        }
+      }
+      rebuilt.Close(c);
+    }
+    v->clustering_ = rebuilt;
+  }
   // The first cluster with `status` and the first of its loops (-1, -1 if
   // none).
   static std::pair<int, int> FirstWith(const Verifier& v, Status status) {
@@ -290,6 +314,39 @@ TEST(MapVerifierState, AStateThatContradictsItselfIsRefusedNamingWhat) {
   expect_refusal([&](Verifier* v) { Peer::records(v).pop_back(); },
                  "the state has " + std::to_string(clusters - 1) +
                      " cluster records for " + n + " clusters");
+  // Edits of the clustering: a cluster of several loops with its first two
+  // swapped, and an accepted cluster of several links without its last
+  // loop, accepted, which the map still holds.
+  int several = -1, without_last = -1, in_map = 0;
+  for (int c = 0; c < clusters; ++c) {
+    const std::vector<int>& loops = Peer::clusters(saver)[c].loops;
+    const std::vector<int>& accepted = Peer::records(&saver)[c].accepted;
+    in_map += static_cast<int>(accepted.size());
+    if (several < 0 && loops.size() > 1) several = c;
+    if (without_last < 0 && accepted.size() > 1 &&
+        accepted.back() == loops.back()) {
+      without_last = c;
+    }
+  }
+  ASSERT_GE(several, 0);
+  ASSERT_GE(without_last, 0);
+  const std::vector<int>& in_order = Peer::clusters(saver)[several].loops;
+  expect_refusal(
+      [&](Verifier* v) {
+        Peer::Recluster(v, [&](int c, std::vector<int>* loops) {
+          if (c == several) std::swap((*loops)[0], (*loops)[1]);
+        });
+      },
+      "a cluster's loop (they ascend) is " + std::to_string(in_order[0]) +
+          ", outside " + std::to_string(in_order[1] + 1) + "..");
+  expect_refusal(
+      [&](Verifier* v) {
+        Peer::Recluster(v, [&](int c, std::vector<int>* loops) {
+          if (c == without_last) loops->pop_back();
+        });
+      },
+      "the map holds " + std::to_string(in_map) + " loops, the clusters " +
+          std::to_string(in_map - 1));
 }
 
 TEST(MapVerifierState, AStateWithAByteChangedIsRefusedOrFinishes) {
