@@ -142,7 +142,11 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
     return;
   }
   MapTrial trial = Test(links, Against::kMap);
-  if (!Passes(trial, Against::kMap) && links.size() > 1) {
+  if (Passes(trial, Against::kMap)) {
+    Accept(c, links, trial.increase, true);
+    return;
+  }
+  if (links.size() > 1) {
     // A group may fail only by the region's held border.
     int tries = 0;
     const MapTrial wide = map_->Widen(
@@ -155,10 +159,6 @@ void MapVerifier<Pose>::JudgeAgainstMap(int c, std::vector<int> links) {
       Accept(c, links, wide.increase, true);
       return;
     }
-  }
-  if (Passes(trial, Against::kMap)) {
-    Accept(c, links, trial.increase, true);
-    return;
   }
   const MapTrial failed = trial;
   std::vector<int> kept = KeepAgreeing(links, Against::kMap, &trial);
