@@ -101,9 +101,9 @@ class NoiseScaleEstimate {
   // Writes the samples; Restore reads them into an estimate of the same
   // residual_dim that has none, which then equals this one. Restore throws
   // std::runtime_error naming the problem if the record cannot be one of a
-  // graph of `most_poses` poses.
+  // graph of `most_poses` poses whose clusters hold `most_links` loops.
   void Save(ByteWriter* out) const;
-  void Restore(ByteReader* in, int most_poses);
+  void Restore(ByteReader* in, int most_poses, int most_links);
 
  private:
   // Values with ranks: (value, owner, copy) in an order-statistics tree.

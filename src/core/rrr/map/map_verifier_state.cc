@@ -199,7 +199,7 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
     map_->Restore(&in);
   }
   CompleteRestored();
-  scale_.Restore(&in, graph.num_poses());
+  scale_.Restore(&in, graph.num_poses(), static_cast<int>(alone_chi2_.size()));
   if (!in.AtEnd()) throw std::runtime_error("the state goes on past its end");
 }
 

@@ -163,7 +163,8 @@ void NoiseScaleEstimate::Save(ByteWriter* out) const {
   Transfer(out, this, &poses);
 }
 
-void NoiseScaleEstimate::Restore(ByteReader* in, int most_poses) {
+void NoiseScaleEstimate::Restore(ByteReader* in, int most_poses,
+                                 int most_links) {
   std::int64_t poses = 0;
   Transfer(in, this, &poses);
   if (recorded_loops_ > loops_.size() || poses < 0 || poses > most_poses) {
@@ -184,12 +185,18 @@ void NoiseScaleEstimate::Restore(ByteReader* in, int most_poses) {
   recorded_loops_ = 0;
   RecordUntil(static_cast<int>(poses));
   loops_ = std::move(all);
+  // Each link votes once: checked before any vote is taken in.
+  std::int64_t voting = 0;
+  for (const auto& [value, links] : clusters_) {
+    voting += links;
+    if (links < 0 || voting > most_links) {
+      throw std::runtime_error("a cluster sample has " + std::to_string(links) +
+                               " links (" + std::to_string(most_links) +
+                               " links may vote in all)");
+    }
+  }
   for (size_t c = 0; c < clusters_.size(); ++c) {
     const auto& [value, links] = clusters_[c];
-    if (links < 0) {
-      throw std::runtime_error("a cluster sample has " + std::to_string(links) +
-                               " links");
-    }
     for (int k = 0; k < links; ++k) {
       votes_.insert(Ranked(value, static_cast<int>(c), k));
     }

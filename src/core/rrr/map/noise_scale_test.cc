@@ -121,7 +121,7 @@ TEST(NoiseScaleEstimate, SavedAndRestoredItDecidesTheSame) {
   estimate.Save(&out);
   NoiseScaleEstimate restored(3);
   ByteReader in(out.bytes());
-  restored.Restore(&in, 40);
+  restored.Restore(&in, 40, 12);
   for (const int pose : {0, 3, 19, 40}) {
     EXPECT_EQ(restored.ValueAt(pose), estimate.ValueAt(pose)) << pose;
     EXPECT_EQ(restored.PriorAt(pose), estimate.PriorAt(pose)) << pose;
@@ -145,7 +145,7 @@ TEST(NoiseScaleEstimate, ARestoredRecordThatCannotBeIsRefusedNamingWhy) {
     NoiseScaleEstimate estimate(3);
     ByteReader in(out.bytes());
     try {
-      estimate.Restore(&in, 10);
+      estimate.Restore(&in, 10, 20);
     } catch (const std::runtime_error& e) {
       return std::string(e.what());
     }
@@ -159,6 +159,13 @@ TEST(NoiseScaleEstimate, ARestoredRecordThatCannotBeIsRefusedNamingWhy) {
   EXPECT_NE(refusal(-4, 1, 5, 4).find("arrived with -4 poses"),
             std::string::npos);
   EXPECT_NE(refusal(0, 1, 5, -3).find("has -3 links"), std::string::npos);
+  // More votes than the clusters have links is refused before any is cast
+  // (a damaged count would otherwise fill the memory).
+  EXPECT_EQ(refusal(0, 1, 5, 20), "restored");
+  EXPECT_NE(refusal(0, 1, 5, 21).find("has 21 links (20 links may vote"),
+            std::string::npos);
+  EXPECT_NE(refusal(0, 1, 5, 2000000000).find("has 2000000000 links"),
+            std::string::npos);
 }
 
 }  // namespace
