@@ -1,15 +1,12 @@
-// The map procedure over several chains over time (ChainsVerifier), as a
-// fleet's verifier node runs it: a g2o file of several odometry chains fed
-// robot by robot side by side, one pose of each chain per round, each loop
-// in the round of its later pose, an update after every round. Prints, as
-// one JSON line, the time of the updates (median, 99th percentile, largest),
-// of Finish(), the decisions, and whether they equal VerifyChains' on the
-// verifier's graph (the batch that `rrr verify` runs), with its time.
+// The map procedure over several chains over time, as a fleet's verifier
+// node runs it: a g2o file of several odometry chains fed robot by robot
+// side by side, one pose of each chain per round (ArrivalOrder), each loop
+// right after its later pose, an update after every pose. Prints, as one
+// JSON line, the time of the updates (median, 99th percentile, largest), of
+// Finish(), the decisions, and whether they equal those of the batch that
+// `rrr verify` runs on the same graph in the same order, with its time.
 //
-//     chains_online FILE.g2o [--window N] [--background]
-//
-// With --background, rules 1–3 between chains run on a thread of their own
-// (ChainsVerifier's in_background, as rrr_node runs them for a fleet).
+//     chains_online FILE.g2o [--window N]
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -23,8 +20,7 @@
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/chains/chains_verifier.h"
-#include "rrr/rrr/chains/verify_chains.h"
+#include "rrr/rrr/map/verify_with_map.h"
 
 namespace rrr {
 namespace {
@@ -44,41 +40,41 @@ double Quantile(std::vector<double> values, double q) {
 }
 
 template <class Pose>
-nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options,
-                   bool background) {
-  ChainsVerifier<Pose> verifier(options, background);
+nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options) {
+  const std::vector<int> order = ArrivalOrder(graph, true);
+  MapVerifier<Pose> verifier(options);
   std::vector<double> updates;
-  // FeedSideBySide reports each update's changes when it returns; the time
-  // between two reports is one round's inputs and its update.
+  // Each update's changes are reported when it returns; the time between
+  // two reports is one pose's inputs and its update.
   Clock::time_point last = Clock::now();
   const Clock::time_point start = last;
-  FeedSideBySide(graph, &verifier, 1, {},
-                 [&](const std::vector<DecisionChange>&) {
-                   updates.push_back(Seconds(last));
-                   last = Clock::now();
-                 });
-  const Clock::time_point finish_start = Clock::now();
-  verifier.Finish();
-  const double finish = Seconds(finish_start);
+  double finish = 0.0;
+  const std::vector<int> loop_of_candidate = FeedInArrivalOrder<Pose>(
+      graph, &verifier, 1,
+      [&](const std::vector<DecisionChange>&) {
+        updates.push_back(Seconds(last));
+        last = Clock::now();
+      },
+      0, order);
+  // The last report is Finish()'s.
+  finish = updates.back();
+  updates.pop_back();
   const double online = Seconds(start);
 
-  std::vector<int> candidate_of_loop;
-  const PoseGraph<Pose> recorded = verifier.Graph(&candidate_of_loop);
   const Clock::time_point batch_start = Clock::now();
-  const ChainsVerdict<Pose> batch = VerifyChains(recorded, options);
+  const Verdict batch = VerifyWithMap(
+      graph, options, static_cast<std::vector<Pose>*>(nullptr), nullptr, order);
   const double batch_seconds = Seconds(batch_start);
-  std::vector<int> batch_accepted;
-  for (const int k : batch.verdict.accepted) {
-    batch_accepted.push_back(candidate_of_loop[k]);
-  }
-  std::sort(batch_accepted.begin(), batch_accepted.end());
   std::vector<int> accepted;
   for (int c = 0; c < verifier.num_candidates(); ++c) {
-    if (verifier.state(c) == LoopState::kAccepted) accepted.push_back(c);
+    if (verifier.state(c) == LoopState::kAccepted) {
+      accepted.push_back(loop_of_candidate[c]);
+    }
   }
+  std::sort(accepted.begin(), accepted.end());
   int maps = 0;
   for (int c = 0; c < verifier.num_chains(); ++c) {
-    maps += verifier.map_of_chain(c) == c;
+    maps += verifier.MapOfChain(c) == c;
   }
   nlohmann::json out;
   out["chains"] = verifier.num_chains();
@@ -92,7 +88,7 @@ nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options,
   out["finish_s"] = finish;
   out["online_s"] = online;
   out["batch_s"] = batch_seconds;
-  out["equal_to_batch"] = accepted == batch_accepted;
+  out["equal_to_batch"] = accepted == batch.accepted;
   return out;
 }
 
@@ -100,27 +96,23 @@ nlohmann::json Run(const PoseGraph<Pose>& graph, const RrrOptions& options,
 }  // namespace rrr
 
 int main(int argc, char** argv) {
-  const std::string usage =
-      "usage: chains_online FILE.g2o [--window N] [--background]\n";
+  const std::string usage = "usage: chains_online FILE.g2o [--window N]\n";
   if (argc < 2) {
     std::cerr << usage;
     return 2;
   }
   rrr::RrrOptions options;
   options.cluster_window = 10;
-  bool background = false;
   for (int k = 2; k < argc; ++k) {
     const std::string flag = argv[k];
     if (flag == "--window" && k + 1 < argc) {
       options.cluster_window = std::atoi(argv[++k]);
-    } else if (flag == "--background") {
-      background = true;
     } else {
       std::cerr << usage;
       return 2;
     }
   }
   return rrr::PrintJsonOfGraph("chains_online", argv[1], [&](const auto& g) {
-    return rrr::Run(g, options, background);
+    return rrr::Run(g, options);
   });
 }

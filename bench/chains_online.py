@@ -3,16 +3,14 @@
 (BENCHMARKS.md, "Several chains over time"): each dataset (synthetic/ or more/) cut into
 N chains (as bench/chains.py cuts it), with false loops between the chains
 (rrr spoil --between-chains), fed by bench/chains_online.cc robot by robot
-side by side with an update after every round. Prints the update times
+side by side with an update after every pose. Prints the update times
 (median, p99, largest), Finish(), the whole run, whether the decisions equal
-VerifyChains' (what rrr verify runs) on the same graph, and its time.
+those of the batch (what rrr verify runs) on the same graph in the same
+order, and its time.
 
     bench/chains_online.py [--datasets manhattanOlson3500 city10000]
-        [--chains 2 4] [--outliers 100] [--kinds random] [--background]
+        [--chains 2 4] [--outliers 100] [--kinds random]
         [--out bench/out/chains_online]
-
-With --background, rules 1–3 between chains run on a thread of their own, as
-rrr_node runs them for a fleet.
 """
 import argparse
 import json
@@ -35,7 +33,6 @@ def main():
     parser.add_argument("--group", type=int, default=10)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--window", type=int, default=10)
-    parser.add_argument("--background", action="store_true")
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "chains_online"))
     args = parser.parse_args()
     common.require_rrr()
@@ -61,8 +58,7 @@ def main():
                                "--between-chains", *common.spoil_flags(kind, args.group),
                                "--output", spoiled, "--truth", out / f"{spoiled.stem}_false.txt")
                     result = json.loads(subprocess.run(
-                        [str(ONLINE), str(spoiled), "--window", str(args.window)]
-                        + (["--background"] if args.background else []),
+                        [str(ONLINE), str(spoiled), "--window", str(args.window)],
                         check=True, capture_output=True, text=True).stdout)
                     print(f"| {name} + {n} {kind} between | {result['chains']} | {result['candidates']} "
                           f"| {result['accepted']} | {result['maps']} | {result['update_median_ms']:.2f} "

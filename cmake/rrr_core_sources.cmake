@@ -18,6 +18,7 @@ set(RRR_CORE_SOURCES
   src/core/graph/keyframe_track.cc
   src/core/graph/covariance.cc
   src/core/graph/odometry_chain.cc
+  src/core/graph/chain_odometry.cc
   src/core/graph/odometry_noise.cc
   src/core/graph/odometry_input.cc
   src/core/solver/chain_maps.cc
@@ -43,15 +44,13 @@ set(RRR_CORE_SOURCES
   src/core/rrr/published/batch_verifier.cc
   src/core/rrr/published/consistency_tests.cc
   src/core/rrr/published/incremental_verifier.cc
+  src/core/rrr/map/map_join.cc
   src/core/rrr/map/map_rule.cc
   src/core/rrr/map/map_verifier.cc
   src/core/rrr/map/map_verifier_state.cc
   src/core/rrr/map/noise_scale.cc
   src/core/rrr/map/verify_with_map.cc
   src/core/fleet/fleet.cc
-  src/core/rrr/chains/chains_verifier.cc
-  src/core/rrr/chains/joined_map_review.cc
-  src/core/rrr/chains/verify_chains.cc
   src/core/session/sqlite_db.cc
   src/core/session/session_store.cc
   src/core/session/robot_session.cc

@@ -18,8 +18,9 @@
 #include <vector>
 
 #include "ros_test_helpers.h"
+#include "rrr/graph/chain_spans.h"
 #include "rrr/io/g2o.h"
-#include "rrr/rrr/chains/verify_chains.h"
+#include "rrr/session/fleet_session.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/GetDecisions.h"
@@ -30,7 +31,7 @@ namespace {
 // A candidate's ends as the robots name them: "robot:id robot:id".
 using Ends = std::string;
 
-TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
+TEST(Fleet, EveryCandidateIsJudgedAsTheRecordedInputsReplayedAreJudged) {
   std::vector<std::string> robots;
   ASSERT_TRUE(ros::param::get("/rrr_node/robots", robots));
   rrr::WorldOptions world;
@@ -130,18 +131,32 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
     EXPECT_EQ(told[ends], accepted) << ends;
   }
 
-  // rrr verify's decisions on the recorded graph are the node's.
+  // The node's inputs replayed in the order it recorded them, through the
+  // core alone, are judged as the node judged them: decisions depend only
+  // on the inputs and their order.
+  std::string database;
+  ASSERT_TRUE(ros::param::get("/rrr_node/database", database));
   int window = 0;
   ASSERT_TRUE(ros::param::get("/rrr_node/cluster_window", window));
-  rrr::RrrOptions options;
-  options.cluster_window = window;
-  const rrr::ChainsVerdict<rrr::Pose2> verdict =
-      rrr::VerifyChains(graph, options);
-  std::vector<bool> batch(graph.loops().size(), false);
-  for (const int k : verdict.verdict.accepted) batch[k] = true;
-  for (size_t k = 0; k < decisions.size(); ++k) {
-    EXPECT_EQ(decisions[k].second, batch[k]) << decisions[k].first;
+  rrr::FleetOptions options;
+  options.rrr.cluster_window = window;
+  options.restart_jump = 5.0;
+  rrr::FleetSession<rrr::Pose2> replay(robots, options, database + ".copy");
+  {
+    std::ifstream from(database, std::ios::binary);
+    std::ofstream to(database + ".copy", std::ios::binary);
+    to << from.rdbuf();
   }
+  replay.Resume();
+  const auto& fleet = replay.fleet();
+  ASSERT_EQ(fleet.verifier().num_candidates(),
+            static_cast<int>(all.response.decisions.decisions.size()));
+  for (const auto& d : all.response.decisions.decisions) {
+    EXPECT_EQ(fleet.verifier().state(d.candidate) == rrr::LoopState::kAccepted,
+              d.state == rrr_slam::LoopDecision::ACCEPTED)
+        << "candidate " << d.candidate;
+  }
+  std::remove((database + ".copy").c_str());
   // A session per robot, and one more for the robot that restarted: no
   // odometry edge joins its two sessions. One map, no false loop in it,
   // most true loops.
@@ -151,8 +166,11 @@ TEST(Fleet, EveryCandidateIsJudgedAsVerifyChainsJudgesTheRecordedGraph) {
     ros::param::get("/" + robot + "/simulated_robot/restart_at", restart_at);
     restarts += restart_at > 0;
   }
-  EXPECT_EQ(verdict.chains.size(), robots.size() + restarts);
-  for (const int map : verdict.map_of_chain) EXPECT_EQ(map, 0);
+  const std::vector<rrr::ChainSpan> chains = rrr::ChainSpansOf(graph);
+  EXPECT_EQ(chains.size(), robots.size() + restarts);
+  for (size_t c = 0; c < chains.size(); ++c) {
+    EXPECT_EQ(fleet.MapOfChain(static_cast<int>(c)), 0) << "chain " << c;
+  }
   size_t true_accepted = 0;
   for (const auto& [ends, accepted] : decisions) {
     const bool is_false = false_ends.count(ends) > 0;

@@ -30,7 +30,6 @@ rrr::FleetOptions FleetOptionsOf(const NodeOptions& options) {
   fleet.restart_jump = options.restart_jump;
   // An update must not wait for the loops between robots to be judged
   // again over the whole graph.
-  fleet.judge_between_in_background = true;
   return fleet;
 }
 
@@ -150,8 +149,7 @@ std::string FleetNode<Pose>::RobotFrame(int robot,
 
 template <class Pose>
 std::string FleetNode<Pose>::MapFrame(int map) const {
-  if (map == session_.fleet().verifier().map_of_chain(0))
-    return options_.map_frame;
+  if (map == session_.fleet().MapOfChain(0)) return options_.map_frame;
   const int robot = session_.fleet().robot_of_chain(map);
   const std::vector<int>& sessions = session_.fleet().sessions(robot);
   const auto k =
@@ -182,7 +180,8 @@ bool FleetNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
   worker_.RunOnWorker([&] {
     const auto& v = session_.fleet().verifier();
     std::vector<int> candidate_of_loop;
-    const rrr::PoseGraph<Pose> graph = v.Graph(&candidate_of_loop);
+    const rrr::PoseGraph<Pose> graph =
+        session_.fleet().Graph(&candidate_of_loop);
     if (graph.num_poses() == 0) {
       res.success = false;
       res.message = "no keyframes yet";
@@ -206,8 +205,9 @@ bool FleetNode<Pose>::OnSaveGraph(rrr_slam::SaveGraph::Request& req,
           };
           for (const int k : loops) {
             const int c = candidate_of_loop[k];
-            out << "# DECISION " << name(v.from(c)) << ' ' << name(v.to(c))
-                << ' ' << rrr::ToString(v.state(c)) << '\n';
+            out << "# DECISION " << name(session_.fleet().from(c)) << ' '
+                << name(session_.fleet().to(c)) << ' '
+                << rrr::ToString(v.state(c)) << '\n';
           }
         },
         &res);
@@ -248,16 +248,16 @@ rrr_slam::Decisions FleetNode<Pose>::DecisionsMsg(
   for (const int c : carried) {
     rrr_slam::LoopDecision d;
     d.candidate = c;
-    d.from_robot =
-        options_.robots[session_.fleet().robot_of_chain(v.from(c).chain)];
-    d.to_robot =
-        options_.robots[session_.fleet().robot_of_chain(v.to(c).chain)];
-    d.from_id = v.from(c).id;
-    d.to_id = v.to(c).id;
+    d.from_robot = options_.robots[session_.fleet().robot_of_chain(
+        session_.fleet().from(c).chain)];
+    d.to_robot = options_.robots[session_.fleet().robot_of_chain(
+        session_.fleet().to(c).chain)];
+    d.from_id = session_.fleet().from(c).id;
+    d.to_id = session_.fleet().to(c).id;
     d.state = StateMsg(v.state(c));
     d.cluster = v.cluster_of(c);
     d.waiting = v.waiting(c);
-    SetReason(v.reason(c), v.decided_at(c), &d);
+    SetReason(v.reason(c), session_.fleet().DecidedAt(c), &d);
     SetChange(previous, &msg, &d);
     msg.decisions.push_back(d);
   }
@@ -338,11 +338,12 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
     const auto& v = session_.fleet().verifier();
     std::map<std::pair<int, rrr::LoopState>, Marker> loops;
     for (int c = 0; c < v.num_candidates(); ++c) {
-      const rrr::ChainPose a = v.from(c), b = v.to(c);
-      const int map = v.map_of_chain(a.chain);
+      const rrr::ChainPose a = session_.fleet().from(c),
+                           b = session_.fleet().to(c);
+      const int map = session_.fleet().MapOfChain(a.chain);
       const auto pa = session_.fleet().Corrected(a),
                  pb = session_.fleet().Corrected(b);
-      if (map != v.map_of_chain(b.chain) || !pa || !pb) continue;
+      if (map != session_.fleet().MapOfChain(b.chain) || !pa || !pb) continue;
       auto [it, added] = loops.try_emplace({map, v.state(c)});
       if (added) {
         it->second = LoopMarker(MapFrame(map), v.state(c));
@@ -386,9 +387,8 @@ void FleetNode<Pose>::UpdateAndPublish(bool finish) {
 
 template <class Pose>
 rrr_slam::AcceptedGraph FleetNode<Pose>::AcceptedGraph() const {
-  const auto& v = session_.fleet().verifier();
   const rrr::FleetGraph<Pose> accepted = session_.fleet().AcceptedGraph(
-      v.num_chains() > 0 ? v.map_of_chain(0) : -1);
+      session_.fleet().num_chains() > 0 ? session_.fleet().MapOfChain(0) : -1);
   std::vector<int> loops(accepted.graph.loops().size());
   std::iota(loops.begin(), loops.end(), 0);
   rrr_slam::AcceptedGraph msg = AcceptedGraphMsg(
@@ -419,9 +419,9 @@ void FleetNode<Pose>::CountState() {
       session_.fleet().refused_by_stamp() - refused_by_stamp_counted_);
   refused_by_stamp_counted_ = session_.fleet().refused_by_stamp();
   status_.counts.keyframes = 0;
-  for (int c = 0; c < v.num_chains(); ++c) {
+  for (int c = 0; c < session_.fleet().num_chains(); ++c) {
     status_.counts.keyframes +=
-        static_cast<uint32_t>(v.chain(c).graph().num_poses());
+        static_cast<uint32_t>(session_.fleet().ChainSize(c));
   }
 }
 

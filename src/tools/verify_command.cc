@@ -12,14 +12,15 @@
 #include "graph_file.h"
 #include "output_paths.h"
 #include "progress_bar.h"
+#include "rrr/graph/disjoint_sets.h"
 #include "rrr/io/input_error.h"
 #include "rrr/io/symbol_key.h"
 #include "rrr/robust/dcs.h"
 #include "rrr/robust/gnc_tls.h"
 #include "rrr/robust/pcm.h"
-#include "rrr/rrr/chains/verify_chains.h"
 #include "rrr/rrr/map/verify_with_map.h"
 #include "rrr/rrr/published/batch_verifier.h"
+#include "rrr/solver/chain_maps.h"
 #include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
@@ -127,6 +128,56 @@ nlohmann::json ChainsJson(const PoseGraph<Pose>& graph,
   return {{"chains", list}, {"chain_pairs", pairs}, {"maps", maps}};
 }
 
+// The chains of `graph` (several) as the map procedure left them: a pair is
+// joined where a loop between it was accepted; `maintained` has every pose
+// in its map's frame, each chain's own frame being that of its first pose's
+// estimate in the graph. The maps are then minimized (MinimizeMaps).
+template <class Pose>
+ChainMaps<Pose> MapsOfChains(const PoseGraph<Pose>& graph,
+                             const Verdict& verdict,
+                             const std::vector<Pose>& maintained) {
+  ChainMaps<Pose> maps;
+  maps.chains = ChainSpansOf(graph);
+  const int n = static_cast<int>(maps.chains.size());
+  // Each chain's frame in its map's: the correction of its first pose.
+  std::vector<Pose> frame(n);
+  for (int c = 0; c < n; ++c) {
+    const int first = maps.chains[c].first;
+    frame[c] = maintained[first] * graph.estimates()[first].inverse();
+  }
+  std::vector<bool> accepted(graph.loops().size(), false);
+  for (const int k : verdict.accepted) accepted[k] = true;
+  std::map<std::pair<int, int>, int> pair_of;
+  for (size_t k = 0; k < graph.loops().size(); ++k) {
+    int a = ChainHolding(maps.chains, graph.loops()[k].from);
+    int b = ChainHolding(maps.chains, graph.loops()[k].to);
+    if (a == b) continue;
+    if (a > b) std::swap(a, b);
+    const auto [it, added] = pair_of.emplace(
+        std::make_pair(a, b), static_cast<int>(maps.pairs.size()));
+    if (added) {
+      maps.pairs.emplace_back();
+      maps.pairs.back().first = a;
+      maps.pairs.back().second = b;
+      maps.pairs.back().relative = frame[a].inverse() * frame[b];
+    }
+    ChainPair<Pose>& pair = maps.pairs[it->second];
+    pair.candidates.push_back(static_cast<int>(k));
+    if (accepted[k]) {
+      pair.accepted.push_back(static_cast<int>(k));
+      pair.joined = true;
+    }
+  }
+  maps.estimates = maintained;
+  for (int c = 0; c < n; ++c) {
+    for (int p = maps.chains[c].first; p <= maps.chains[c].last; ++p) {
+      maps.estimates[p] = frame[c].inverse() * maintained[p];
+    }
+  }
+  MinimizeMaps(graph, verdict.accepted, &maps);
+  return maps;
+}
+
 template <class Pose>
 void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
             const VerifyArgs& args) {
@@ -148,17 +199,21 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
     if (maps.chains.size() > 1) chains_report = ChainsJson(graph, maps);
     map = std::move(maps.estimates);
     final_map = maps.minimized.front();
-  } else if (args.options.procedure == Procedure::kMap &&
-             ChainSpansOf(graph).size() > 1) {
-    ChainsVerdict<Pose> chains = VerifyChains(graph, args.options, &stats);
-    chains_report = ChainsJson(graph, chains);
-    verdict = std::move(chains.verdict);
-    map = std::move(chains.estimates);
-    final_map = chains.minimized.front();
   } else if (args.options.procedure == Procedure::kMap) {
+    // Robots (ids written as GTSAM symbols) move at once; sessions of one
+    // robot come one after another.
+    const bool robots = !graph.ids().empty() && AsSymbol(graph.ids()[0]);
     std::vector<Pose> maintained;
-    verdict = VerifyWithMap(graph, args.options, &maintained, &stats);
-    map = solver.Optimize(verdict.accepted, {}, &final_map, &maintained);
+    verdict = VerifyWithMap(graph, args.options, &maintained, &stats,
+                            ArrivalOrder(graph, robots));
+    if (ChainSpansOf(graph).size() > 1) {
+      ChainMaps<Pose> chains = MapsOfChains(graph, verdict, maintained);
+      chains_report = ChainsJson(graph, chains);
+      map = std::move(chains.estimates);
+      final_map = chains.minimized.front();
+    } else {
+      map = solver.Optimize(verdict.accepted, {}, &final_map, &maintained);
+    }
   } else {
     ProgressBar bar("rrr: clusters", true);
     verdict =
@@ -207,7 +262,9 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
                                {"reversals", stats.reversals},
                                {"rejudged", stats.rejudged},
                                {"optimizations", stats.optimizations},
-                               {"not_converged", stats.not_converged}};
+                               {"not_converged", stats.not_converged},
+                               {"joins", stats.joins},
+                               {"join_revisions", stats.join_revisions}};
     report["noise_scale"] = {{"value", stats.noise_scale},
                              {"source", stats.noise_scale_source},
                              {"group", stats.group_noise_scale},

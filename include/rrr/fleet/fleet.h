@@ -1,6 +1,7 @@
 // A fleet of robots as a verifier node sees them: each robot's odometry
 // readings, its sessions and keyframes, and the loop candidates within and
-// between robots, judged by one ChainsVerifier. Nothing here knows ROS.
+// between robots, judged by one MapVerifier over their chains. Nothing here
+// knows ROS.
 #ifndef RRR_FLEET_FLEET_H_
 #define RRR_FLEET_FLEET_H_
 
@@ -13,7 +14,7 @@
 #include "rrr/graph/odometry_input.h"
 #include "rrr/graph/odometry_noise.h"
 #include "rrr/graph/stamped_candidates.h"
-#include "rrr/rrr/chains/chains_verifier.h"
+#include "rrr/rrr/map/map_verifier.h"
 #include "rrr/rrr/options.h"
 
 namespace rrr {
@@ -28,17 +29,22 @@ struct FleetOptions {
   // its odometry restarted (at zero, typically) and it starts a new
   // session. 0 turns the test off.
   double restart_jump = 1.0;
-  // Rules 1–3 between chains on a thread of their own (ChainsVerifier).
-  bool judge_between_in_background = false;
+};
+
+// A keyframe of a fleet: the chain (session) it is in and its id in its
+// robot.
+struct ChainPose {
+  int chain = 0;
+  PoseId id = 0;
 };
 
 // The accepted graph of one map of a fleet (Fleet::AcceptedGraph).
 template <class Pose>
 struct FleetGraph {
   // The keyframes of the sessions in the map, in chain order, at their
-  // corrected poses, under the ids of ChainsVerifier::Graph() (every chain,
-  // a gap of one id between two); their odometry and the accepted loops
-  // between them.
+  // corrected poses, under the ids of Fleet::Graph() (every chain, a gap of
+  // one id between two); their odometry and the accepted loops between
+  // them.
   PoseGraph<Pose> graph;
   std::vector<int> robot;              // of each pose
   std::vector<std::int64_t> keyframe;  // of each pose: its id in its robot
@@ -95,7 +101,7 @@ class Fleet {
   // one after the other) waits for its first keyframe and returns -1; it is
   // added then, and refused then if degenerate (counted in
   // refused_waiting()). Throws DegenerateCandidate as
-  // ChainsVerifier::AddLoop (keeping nothing), also when rrr.max_waiting
+  // OnlineVerifier::AddLoop (keeping nothing), also when rrr.max_waiting
   // candidates wait for robots already, and std::out_of_range for a robot
   // that does not exist.
   int AddLoop(int robot_a, std::int64_t id_a, int robot_b, std::int64_t id_b,
@@ -130,12 +136,29 @@ class Fleet {
 
   std::vector<DecisionChange> Update();
   std::vector<DecisionChange> Finish();
-  // ChainsVerifier::UpdateChains and JudgeNow (a resume replays recorded
-  // updates with the first and ends with the second).
-  std::vector<DecisionChange> UpdateChains();
-  std::vector<DecisionChange> JudgeNow();
 
-  const ChainsVerifier<Pose>& verifier() const { return verifier_; }
+  // The verifier of every robot's chains; its candidate numbers are the
+  // fleet's.
+  const MapVerifier<Pose>& verifier() const { return verifier_; }
+  // The candidate's ends as given to AddLoop (its sessions found).
+  ChainPose from(int candidate) const { return ends_.at(candidate).first; }
+  ChainPose to(int candidate) const { return ends_.at(candidate).second; }
+  // The id (in its robot) of the keyframe as of which the candidate was
+  // decided, or -1 while it is not.
+  PoseId DecidedAt(int candidate) const;
+  // The map chain `chain` is in: the lowest chain joined with it (itself if
+  // none).
+  int MapOfChain(int chain) const { return verifier_.MapOfChain(chain); }
+  int num_chains() const { return verifier_.num_chains(); }
+  // The keyframes of chain `chain`.
+  int ChainSize(int chain) const {
+    return static_cast<int>(verifier_.chains().poses(chain).size());
+  }
+  // Every chain in order (ids counted on over the chains, a gap of one id
+  // between two), their odometry and every loop that has both poses, in the
+  // order they entered the verifier's graph; `candidate_of_loop`, if given,
+  // receives each loop's candidate number.
+  PoseGraph<Pose> Graph(std::vector<int>* candidate_of_loop = nullptr) const;
   // The robot and session of chain `chain`.
   int robot_of_chain(int chain) const { return robot_of_chain_.at(chain); }
   // The robot's sessions (chains), oldest first.
@@ -143,7 +166,7 @@ class Fleet {
     return sessions_.at(robot);
   }
   // The map the robot's current session is in (its lowest chain; see
-  // ChainsVerifier::map_of_chain), or -1 before its first reading.
+  // MapOfChain), or -1 before its first reading.
   int MapOfRobot(int robot) const;
   // The transform from the robot's odometry frame to its map's frame (the
   // correction of its newest keyframe), as of the last Update(); nothing
@@ -166,6 +189,7 @@ class Fleet {
   struct Session {
     int chain;
     std::int64_t first_id;
+    PoseId base;  // the verifier's id of keyframe id k is base + k
     KeyframeTrack<Pose> track;  // its keyframes as odometry reported them
     std::vector<Pose> map;      // their corrected poses, in their map's frame
   };
@@ -180,7 +204,8 @@ class Fleet {
   std::vector<std::string> robots_;
   FleetOptions options_;
   OdometryNoiseModel<Pose> noise_;
-  ChainsVerifier<Pose> verifier_;
+  MapVerifier<Pose> verifier_;
+  std::vector<std::pair<ChainPose, ChainPose>> ends_;  // by candidate
   std::vector<Session> sessions_by_chain_;
   std::vector<int> robot_of_chain_;
   std::vector<std::vector<int>> sessions_;  // chains, by robot

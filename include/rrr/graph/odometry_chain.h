@@ -56,14 +56,15 @@ class OdometryChain {
 };
 
 // The steps of `graph`'s odometry: element k-1 is the edge from pose k-1 to
-// pose k, for every pose k >= 1. An edge stored from the later pose to the
-// earlier is inverted; several edges between the same pair are fused (to
-// first order) into one. Throws std::invalid_argument naming the pose if a
-// pose has no odometry to its predecessor.
+// pose k, for every pose k >= 1; its `from` is -1 where pose k has no
+// odometry to its predecessor (it starts a chain, ChainSpansOf). An edge
+// stored from the later pose to the earlier is inverted; several edges
+// between the same pair are fused (to first order) into one.
 template <class Pose>
 std::vector<Constraint<Pose>> OdometryStepsOf(const PoseGraph<Pose>& graph);
 
-// The chain of OdometryStepsOf(graph), with its exceptions.
+// The chain of OdometryStepsOf(graph). Throws std::invalid_argument naming
+// the pose if a pose has no odometry to its predecessor.
 template <class Pose>
 OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph);
 

@@ -33,8 +33,10 @@ class PoseGraph {
  public:
   using Edge = Constraint<Pose>;
 
-  // Appends a pose with the given id and initial estimate; ids must increase.
-  // Returns its index. Throws std::invalid_argument if `id` does not increase.
+  // Appends a pose with the given id and initial estimate; returns its
+  // index. Throws std::invalid_argument if `id` is a pose already. (A graph
+  // read from a file has its ids in increasing order: the chain functions
+  // below read its chains in index order.)
   int AddPose(PoseId id, const Pose& estimate);
   // Makes room for `poses` poses and `edges` edges in all, the odometry
   // between consecutive poses and the rest loops, so that adding them moves

@@ -2,6 +2,7 @@
 #ifndef RRR_RRR_CLUSTERING_H_
 #define RRR_RRR_CLUSTERING_H_
 
+#include <cstdint>
 #include <vector>
 
 #include "rrr/graph/pose_graph.h"
@@ -10,23 +11,27 @@
 namespace rrr {
 
 // A cluster: loops that link one stretch of trajectory [start_low,
-// start_high] (the later ends) to one earlier stretch [end_low, end_high].
+// start_high] (the later ends) to one earlier stretch [end_low, end_high],
+// of one group (a pair of odometry chains: the ids of the two stretches
+// count along their own chains).
 struct Cluster {
   PoseId start_low, start_high, end_low, end_high;
   std::vector<int> loops;  // loop indices, in the order they joined
   bool closed = false;     // takes no more loops (Clustering::Close)
+  std::int64_t group = 0;
 };
 
-// Assigns loops to clusters as they are added (RRR_ALGORITHM.md §1): with
-// start = max(a, b), end = min(a, b), a loop joins the first cluster (in
-// creation order) with a start bound and an end bound each closer than
-// `window`, widening its ranges, or opens a new cluster. Closed clusters
-// take no more loops.
+// Assigns loops to clusters as they are added (RRR_ALGORITHM.md §1): a loop
+// joins the first cluster (in creation order) of its group with a start
+// bound and an end bound each closer than `window`, widening its ranges, or
+// opens a new cluster. Closed clusters take no more loops.
 class Clustering {
  public:
   explicit Clustering(PoseId window) : window_(window) {}
-  // Adds loop `loop` between poses with ids a and b; returns its cluster.
-  int Add(int loop, PoseId a, PoseId b);
+  // Adds loop `loop` of group `group` between the later end `start` and the
+  // earlier end `end` (start = max(a, b), end = min(a, b) in one chain);
+  // returns its cluster.
+  int Add(int loop, PoseId start, PoseId end, std::int64_t group = 0);
   // Closes cluster `c`: later loops do not join it.
   void Close(int c) { clusters_.at(c).closed = true; }
   const std::vector<Cluster>& clusters() const { return clusters_; }

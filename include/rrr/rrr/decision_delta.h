@@ -8,9 +8,6 @@
 
 namespace rrr {
 
-template <class Pose>
-class ChainsVerifier;
-
 // For a stream of messages each carrying some candidates with their state
 // now (a node's ~decisions): which candidates the next message must carry
 // so that a consumer who applies the messages in order knows every
@@ -26,25 +23,12 @@ class DecisionDelta {
  public:
   // The candidate numbers the next message carries, ascending, given the
   // changes of the updates since the last call; the verifier's state now is
-  // then taken as carried. Of one chain's verifier, or of several chains'.
+  // then taken as carried.
   template <class Pose>
   std::vector<int> Next(const OnlineVerifier<Pose>& verifier,
-                        const std::vector<DecisionChange>& changes) {
-    return NextOf(verifier, changes);
-  }
-  template <class Pose>
-  std::vector<int> Next(const ChainsVerifier<Pose>& verifier,
-                        const std::vector<DecisionChange>& changes) {
-    return NextOf(verifier, changes);
-  }
+                        const std::vector<DecisionChange>& changes);
 
  private:
-  // Next() of a verifier with num_candidates(), cluster_of(c), waiting(c)
-  // and num_reclusterings().
-  template <class Verifier>
-  std::vector<int> NextOf(const Verifier& verifier,
-                          const std::vector<DecisionChange>& changes);
-
   // Per candidate carried (0 .. size - 1): the cluster it was carried with
   // and whether it was waiting.
   std::vector<int> cluster_;

@@ -33,32 +33,24 @@ enum class DecisionTest {
   // (RRR's reversal): `statistic` is what it brings to the map with the
   // later one, over its gate; `gate` what the later one brings with it, over
   // its own (RRR's consistency index: of two clusters that conflict, the
-  // one less consistent with the rest goes). In VerifyChains' rule 5 the
-  // later one is a coalition: the clusters between chains refused against
-  // the joined map that would fit without this one (`by_cluster`: the one
-  // it strains most).
+  // one less consistent with the rest goes). For the links that joined two
+  // maps, set aside for a contradicting set with more evidence (the join
+  // rule): `statistic` is their evidence, `gate` that set's (links that
+  // agree, minus one).
   kOutweighed,
-  // The links of the two clusters that joined two odometry chains: their
-  // least error with both chains' maps held, the chains' relative pose free
-  // (e·(n−1) dof; VerifyChains).
+  // Links between two maps that no join has related yet, which agree with
+  // themselves (their least error with both chains' odometry, the maps'
+  // relative pose free, e·(n−1) dof): they wait for the join rule, pending.
   kJoin,
-  // A loop between two chains that no two agreeing clusters joined: nothing
-  // relates their frames, so nothing can confirm it (no statistic).
+  // Links between two maps that were never joined: the revisit they are in
+  // never had more evidence than the revisits between the same chains that
+  // contradict it together (`statistic`: its evidence, links that agree
+  // minus one; `gate`: the other revisits' evidence together, at least 1).
   kApart,
-  // A cluster between two chains against their joined map, refused without
-  // a trial: a lower bound of Δ (first order: the largest over its links of
-  // a link's Mahalanobis error at the map's minimum with the covariance of
-  // one path of measurements between its ends, which the map's cannot
-  // exceed) is over the gate of its dof (VerifyChains, rule 3).
-  kMapBound,
-  // A cluster inside a chain against the map that joined its chain with
-  // others: Δ, to first order how much higher that map's minimum is with
-  // its links than without them (e·|S| dof; VerifyChains, rule 5).
-  kJoinedMap,
 };
 
 // "not_judged", "alone", "own_link", "own", "map_link", "map",
-// "outweighed", "join", "apart", "map_bound" or "joined_map".
+// "outweighed", "join" or "apart".
 const char* ToString(DecisionTest test);
 
 // The test that put a candidate in its state, with what it compared.

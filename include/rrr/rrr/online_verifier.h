@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rrr/graph/candidate_defect.h"
+#include "rrr/graph/chain_odometry.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/io/byte_stream.h"
 #include "rrr/rrr/decision_reason.h"
@@ -52,18 +53,31 @@ class OnlineVerifier {
   }
   // Starts the chain at pose `id`. Throws std::logic_error if it has started.
   void AddFirstPose(PoseId id, const Pose& pose);
-  // Appends the pose with the next id (last id + 1), reached from the last
-  // pose by odometry `z`. Throws std::logic_error before AddFirstPose.
-  // Returns the new pose's id.
+  // Starts a new odometry chain (a robot, or a session of one) at pose `id`
+  // with estimate `pose`; returns its index (0, 1, ... in order). Its ids
+  // count on from `id`, so chains that grow side by side need first ids far
+  // apart (a robot's letter in the top byte, as GTSAM's Symbol keys).
+  // Throws std::invalid_argument if `id` is a pose already, and
+  // std::logic_error for a second chain if the procedure judges one
+  // (JudgesSeveralChains).
+  int AddChain(PoseId id, const Pose& pose);
+  // Appends to chain `chain` the pose with its next id (last id + 1),
+  // reached from its last pose by odometry `z`; returns the new pose's id.
+  // Throws std::out_of_range for a chain that does not exist, and
+  // std::logic_error if that id is another chain's pose.
+  PoseId AddOdometry(int chain, const Pose& z, const Information& information);
+  // AddOdometry of the newest chain. Throws std::logic_error before the
+  // first pose.
   PoseId AddOdometry(const Pose& z, const Information& information);
   // Adds the candidate z ≈ x_a⁻¹ · x_b and returns its number (0, 1, ... in
   // arrival order). If a pose does not exist yet, the candidate waits for it
   // and enters the graph when it arrives. Throws DegenerateCandidate (and
-  // keeps nothing) for a self loop, consecutive poses, a pose before the
-  // first (it can never exist), the same pair, measurement and information
-  // as an earlier candidate, a pose more than `bounds.max_future_poses` ids
-  // past the newest, or a candidate that would wait while
-  // `bounds.max_waiting` already do (RrrOptions).
+  // keeps nothing) for a self loop, consecutive ids, a pose before the first
+  // chain's first (it can never exist), the same pair, measurement and
+  // information as an earlier candidate, a pose more than
+  // `bounds.max_future_poses` ids past the newest of the chain whose ids it
+  // falls among, or a candidate that would wait while `bounds.max_waiting`
+  // already do (RrrOptions).
   int AddLoop(PoseId a, PoseId b, const Pose& z,
               const Information& information);
 
@@ -100,7 +114,15 @@ class OnlineVerifier {
   // arrive; the map procedure never does).
   int num_reclusterings() const { return num_reclusterings_; }
 
+  // Whether the procedure judges several odometry chains.
+  virtual bool JudgesSeveralChains() const { return false; }
+
+  // The poses, odometry and candidates given, in arrival order: the chains'
+  // poses interleave as they came.
   const PoseGraph<Pose>& graph() const { return graph_; }
+  // The chains of graph() and their odometry.
+  const ChainOdometry<Pose>& chains() const { return chains_; }
+  int num_chains() const { return chains_.num_chains(); }
   int num_candidates() const { return static_cast<int>(candidates_.size()); }
   // Candidates waiting for a pose that does not exist yet.
   int num_waiting() const { return static_cast<int>(waiting_.size()); }
@@ -176,6 +198,8 @@ class OnlineVerifier {
 
   int max_future_poses_, max_waiting_;
   PoseGraph<Pose> graph_;
+  ChainOdometry<Pose> chains_;
+  std::map<PoseId, int> chain_of_first_id_;
   std::vector<Candidate> candidates_;
   std::array<int, 3> count_by_state_{};  // by LoopState
   std::vector<int> waiting_;             // candidate numbers
@@ -187,21 +211,30 @@ class OnlineVerifier {
   int num_reclusterings_ = 0;
 };
 
-// Feeds `graph` to `verifier` as a robot would produce it: pose after pose
-// (odometry from the graph's chain, see ChainOf), each loop candidate right
-// after its later pose, or with `loop_lag` > 0 as from a loop topic that lags
-// by up to that many poses (loop k comes k mod (loop_lag + 1) poses late, at
-// the last pose at the latest), Update() after every `update_every` poses, then
-// Finish(). Calls `on_changes` with the changes of each update if given.
-// Returns the graph loop index of each candidate number. Throws
-// std::invalid_argument if a pose has no odometry to its predecessor.
+// The order in which the poses of `graph` arrive: the graph's order (its
+// chains one after another, as the sessions of one robot), or with
+// `side_by_side` one pose of each chain in turn (ChainSpansOf), as robots
+// that move at once.
+template <class Pose>
+std::vector<int> ArrivalOrder(const PoseGraph<Pose>& graph, bool side_by_side);
+
+// Feeds `graph` to `verifier` as robots would produce it: pose after pose in
+// `order` (ArrivalOrder; the graph's order if empty; a part of an order feeds
+// those poses alone), each the first of a new chain where it has no odometry
+// to its predecessor (ChainSpansOf) or else reached by its odometry, each
+// loop candidate right after its later pose, or with `loop_lag` > 0 as from
+// a loop topic that lags by up to that many poses (loop k comes
+// k mod (loop_lag + 1) poses late, at the last pose at the latest), Update()
+// after every `update_every` poses, then Finish() if `finish`. Calls
+// `on_changes` with the changes of each update if given. Returns the graph
+// loop index of each candidate number.
 template <class Pose>
 std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
     int update_every = 1,
     const std::function<void(const std::vector<DecisionChange>&)>& on_changes =
         nullptr,
-    int loop_lag = 0);
+    int loop_lag = 0, const std::vector<int>& order = {}, bool finish = true);
 
 // The decisions of `verifier` as a verdict over `num_loops` loops, its
 // candidate c being loop loop_of_candidate[c] (-1: none); a loop that is no

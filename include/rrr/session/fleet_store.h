@@ -55,11 +55,10 @@ class FleetStore {
   // Feeds the recording to `fleet`, which must be new and name every
   // recorded robot, in the order it was recorded: each keyframe as the
   // fleet took it (Fleet::AddKeyframe, its sessions as they were), each
-  // candidate, and Fleet::UpdateChains() or Finish() where the recording ran
-  // Update() or Finish() (each keyframe must come back under its recorded id
-  // and each candidate under its recorded number), and JudgeNow() after the
-  // last Update(): the decisions are those the recording had after its last
-  // update if it ran rules 1–5 inside the updates. Then
+  // candidate, and Fleet::Update() or Finish() where the recording ran them
+  // (each keyframe must come back under its recorded id and each candidate
+  // under its recorded number): the decisions are those the recording had
+  // after its last update. Then
   // every robot that has a session starts a new one with its next reading
   // (a node started again cannot know where its robots went meanwhile; only
   // loop closures join what comes next to what was). Throws SessionError

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "rrr/graph/odometry_chain.h"
+#include "rrr/graph/chain_odometry.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/solver/consistency_solver.h"
 #include "rrr/solver/local_problem.h"
@@ -19,20 +19,26 @@ struct CondensedErrors {
   // each loop in the order given.
   SubsetErrors errors;
   MinimizeResult minimize;
+  // The chains the loops touch but the first: each one's frame was free,
+  // so the minimum absorbs e of the loops' degrees of freedom per chain.
+  int free_frames = 0;
 };
 
 // Minimizes the error of odometry plus `loops` (indices into graph.loops())
 // over the poses the loops touch, from the odometry initial estimate, with
 // the first of them held fixed. The odometry between consecutive touched
-// poses is one edge (`chain`.Between), so the cost does not depend on how
-// far apart the loops' ends are. For a linear-Gaussian graph the minimal
-// error equals that of the whole chain with the loops; its expected value is
-// e·|loops|. `chain` must be the chain of `graph`. Poses the graph holds
-// fixed (other than the first) are not supported: throws
+// poses of a chain is one edge (ChainOdometry::Between), so the cost does
+// not depend on how far apart the loops' ends are. Loops between chains
+// relate the chains' frames, which are otherwise free (each placed first by
+// a loop that reaches it from a placed one); the loops must join every
+// chain they touch. For a linear-Gaussian graph the minimal error equals
+// that of the whole chains with the loops; its expected value is
+// e·(|loops| − free_frames). `chains` must be the chains of `graph`. Poses
+// the graph holds fixed (other than the first) are not supported: throws
 // std::invalid_argument.
 template <class Pose>
 CondensedErrors SolveCondensed(const PoseGraph<Pose>& graph,
-                               const OdometryChain<Pose>& chain,
+                               const ChainOdometry<Pose>& chains,
                                const std::vector<int>& loops,
                                const ConvergenceOptions& options);
 

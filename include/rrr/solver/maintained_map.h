@@ -2,14 +2,14 @@
 #ifndef RRR_SOLVER_MAINTAINED_MAP_H_
 #define RRR_SOLVER_MAINTAINED_MAP_H_
 
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <map>
 #include <memory>
 #include <vector>
 
-#include "rrr/graph/chain_spans.h"
-#include "rrr/graph/odometry_chain.h"
+#include "rrr/graph/chain_odometry.h"
 #include "rrr/graph/pose_graph.h"
 #include "rrr/io/byte_stream.h"
 #include "rrr/solver/local_problem.h"
@@ -36,58 +36,70 @@ struct MapTrial {
   std::vector<LoopStrain> map_loops;
   MinimizeResult minimize;
   int num_free = 0;  // poses minimized
+  // Chains whose frame the minimum left free (a test of loops between
+  // chains against their odometry alone): the loops' error has e dof fewer
+  // per such chain.
+  int free_frames = 0;
 };
 
-// Odometry plus a set of accepted loops of a graph, with an estimate near
-// the minimum of their error. Only the poses that loops touch (junctions)
-// are variables: the odometry between consecutive junctions is one condensed
-// edge (OdometryChain), so the cost of every operation depends on the loops
-// and junctions it reaches, not on the length of the chain. The estimate of
-// any other pose is its optimum given the junctions next to it; poses after
-// the last junction follow it by odometry.
+// Odometry plus a set of accepted loops of a graph of one or several
+// odometry chains (ChainOdometry), with an estimate near the minimum of
+// their error. Only the poses that loops touch (junctions) are variables:
+// the odometry between consecutive junctions of a chain is one condensed
+// edge, so the cost of every operation depends on the loops and junctions
+// it reaches, not on the length of the chains. The estimate of any other
+// pose is its optimum given the junctions next to it; poses after a chain's
+// last junction follow it by odometry.
+//
+// Chains joined by loops of the map, directly or through others, make one
+// map, held in the frame of its lowest chain: that chain's first pose is
+// held (the map's anchor), every other pose is free. A chain joined to no
+// other is a map of its own. Every chain's first pose is a junction.
 //
 // Changes are local: Add, Remove and Try minimize over the junctions within
-// `radius` hops (along the chain or across a loop of the map) of the loops'
+// `radius` hops (along a chain or across a loop of the map) of the loops'
 // ends, and no further than the hop layer that brings them to
-// `most_junctions`; Optimize minimizes over the whole map. Pose 0 is held
-// (the map's frame).
+// `most_junctions`; Optimize minimizes over every map.
 template <class Pose>
 class MaintainedMap {
  public:
-  // The map of `graph`, one chain whose odometry is `chain`. The graph and
-  // the chain must outlive the map; poses may be appended to both (same
-  // length) between calls.
-  MaintainedMap(const PoseGraph<Pose>& graph, const OdometryChain<Pose>& chain,
-                const ConvergenceOptions& convergence, int most_junctions);
-  // The map of `graph`, whose poses are the chains `spans` laid end to end
-  // (the first from pose 0), each with its odometry in `odometry`
-  // (OdometryOf), related only by loops: every chain's first pose is a
-  // junction, placed at graph.estimates(). The graph and the odometry must
-  // outlive the map; the loops of the map must join the chains (a chain
-  // nothing relates to pose 0 has no unique minimum).
-  MaintainedMap(const PoseGraph<Pose>& graph,
-                const std::vector<ChainSpan>& spans,
-                const std::vector<OdometryChain<Pose>>& odometry,
+  // The map of `graph`'s chains `chains`, each taken in as AddChain does.
+  // Both must outlive the map; poses may be added to both between calls,
+  // and chains, which AddChain then takes in.
+  MaintainedMap(const PoseGraph<Pose>& graph, const ChainOdometry<Pose>& chains,
                 const ConvergenceOptions& convergence, int most_junctions);
 
+  // Takes chain `chain` of the chains in, a map of its own with its first
+  // pose at its estimate in the graph. Chains are taken in in order: throws
+  // std::logic_error for another.
+  void AddChain(int chain);
+
+  // The chains taken in (AddChain).
+  int num_chains() const { return static_cast<int>(map_of_.size()); }
   bool Contains(int loop) const;
   int num_loops() const { return num_loops_; }
   int num_junctions() const { return static_cast<int>(junctions_.size()); }
+  // The map chain `chain` is in: the lowest chain joined with it by the
+  // map's loops (itself if none).
+  int MapOf(int chain) const { return map_of_[chain]; }
+  // The map chain `chain` would be in were the map's loops between chains
+  // `a` and `b` taken out: whether they are the only tie between two parts.
+  int MapOfWithout(int chain, int a, int b) const;
 
-  // d²_l of graph loop `loop` at the current estimate.
+  // d²_l of graph loop `loop` at the current estimate (its ends in one map).
   double LoopChi2(int loop) const;
-  // The estimate of pose `pose`.
+  // The estimate of pose `pose`, in its map's frame.
   Pose Estimate(int pose) const;
   // The estimate of every pose of the graph, up to `threads` poses at a time
   // (the same estimates whatever their number).
   std::vector<Pose> Estimates(int threads = 1) const;
 
-  // What adding `loops` (not in the map) would do. The region is first
-  // minimized without them, and that improvement of the estimate is kept;
-  // otherwise the map is unchanged until KeepTrial(). With a finite
-  // `fails_above`, the minimization with them stops once Δ could not come
-  // under it (LocalProblem::Minimize's reach): a trial that cannot pass a
-  // gate of `fails_above` is not minimized to the end.
+  // What adding `loops` (not in the map, their ends in one map) would do.
+  // The region is first minimized without them, and that improvement of the
+  // estimate is kept; otherwise the map is unchanged until KeepTrial().
+  // With a finite `fails_above`, the minimization with them stops once Δ
+  // could not come under it (LocalProblem::Minimize's reach): a trial that
+  // cannot pass a gate of `fails_above` is not minimized to the end.
   MapTrial Try(const std::vector<int>& loops, int radius,
                double fails_above = std::numeric_limits<double>::infinity());
   // `trial`, the last Try(loops, radius), fails `passes`: tries them again
@@ -106,15 +118,14 @@ class MaintainedMap {
   // relaxes as Relax(loops, 2 · its radius, significant): its own region is
   // at its minimum already, twice the radius is the first wider one (the
   // map is kept near its minimum, the premise of a trial's bound). Throws
-  // std::logic_error if the map changed since (another Try, Add, Remove or
-  // Optimize).
+  // std::logic_error if the map changed since (another Try, Add, Remove,
+  // Move or Optimize).
   void KeepTrial(double significant);
   // Adds `loops` and minimizes near them (Relax).
   void Add(const std::vector<int>& loops, int radius, double significant);
-  // Adds `loops` and places every junction at `x` (every pose of the
-  // graph), without minimizing: for loops whose minimum `x` is known.
-  void AddAt(const std::vector<int>& loops, const std::vector<Pose>& x);
-  // Removes `loops` (in the map) and minimizes near their ends (Relax).
+  // Removes `loops` (in the map) and minimizes near their ends (Relax). A
+  // map they alone held together falls apart into maps of their own, each
+  // held where it is.
   void Remove(const std::vector<int>& loops, int radius, double significant);
   // Minimizes over the junctions within `radius` hops of `loops`' ends, then
   // over twice as many hops, and so on while a widening lowers the error by
@@ -122,38 +133,46 @@ class MaintainedMap {
   // border), until the region stops growing (the whole connected map, or
   // `most_junctions`).
   void Relax(const std::vector<int>& loops, int radius, double significant);
-  // Minimizes the error of the whole map.
+  // Moves map `map` (a lowest chain) rigidly: x ← frame · x for every one
+  // of its poses. Its errors do not change.
+  void Move(int map, const Pose& frame);
+  // Minimizes the error of every map.
   MinimizeResult Optimize();
 
   // Writes the junctions, their estimates bit for bit, the map's loops and
   // the last trial; Restore reads them into a map of the same graph and
-  // chain, which then equals this one. Throws std::runtime_error if the
-  // state names a pose or loop the graph does not have
+  // chains, which then equals this one. Throws std::runtime_error if the
+  // state names a pose or loop the graph does not have, or is not a map
   // (maintained_map_state.cc).
   void Save(ByteWriter* out) const;
   void Restore(ByteReader* in);
 
  private:
+  using Key = std::int64_t;  // ChainOdometry::Key of a junction's pose
   struct Junction {
+    int pose;
     Pose x;
     std::vector<int> loops;  // loops of the map at this pose
     int temporary = 0;       // tries holding it
-    // The condensed odometry to the next junction, computed when `next`,
-    // that junction's pose, was last seen (-1: never).
+    // The condensed odometry to the next junction of its chain, computed
+    // when `next`, that junction's pose, was last seen (-1: never).
     int next = -1;
     Constraint<Pose> to_next;
   };
-  using Junctions = std::map<int, Junction>;
+  using Junctions = std::map<Key, Junction>;
 
+  static bool SameChain(Key a, Key b) { return (a >> 32) == (b >> 32); }
+  // Whether `pose` is held: the first pose of its map's lowest chain.
+  bool Held(int pose) const;
   // Makes `pose` a junction (placed at its current estimate) if it is not.
   void Insert(int pose, bool temporary);
   // Drops junction `pose` if nothing holds it.
   void Release(int pose);
-  // The junctions within `radius` hops of the junctions `seeds`, ascending;
-  // no hop layer is added once there are `most_junctions_`.
+  // The junctions within `radius` hops of the junctions `seeds`, in key
+  // order; no hop layer is added once there are `most_junctions_`.
   std::vector<int> Region(const std::vector<int>& seeds, int radius) const;
-  // The condensed odometry from junction `it` to the next (there must be
-  // one), computed again only when the next junction changed.
+  // The condensed odometry from junction `it` to the next of its chain
+  // (there must be one), computed again only when that junction changed.
   const Constraint<Pose>& ToNext(typename Junctions::iterator it);
   // Minimizes over `region` with the map's loops and `extra`; writes the
   // result into the junctions and returns it with the errors of `extra` and
@@ -170,16 +189,12 @@ class MaintainedMap {
   void Attach(const std::vector<int>& loops);
   // Unmarks `loops` (those in the map); their ends stay junctions.
   void Detach(const std::vector<int>& loops);
-
-  // The chain that holds `pose`, by index into chains_ and firsts_.
-  int ChainOf(int pose) const;
-  bool SameChain(int p, int q) const { return ChainOf(p) == ChainOf(q); }
-  // The condensed odometry from pose `i` to pose `j` > i of its chain.
-  Constraint<Pose> Between(int i, int j) const;
+  // Each chain's map, by the map's loops between chains, leaving out those
+  // between chains `a` and `b` (none if a < 0).
+  std::vector<int> Maps(int a, int b) const;
 
   const PoseGraph<Pose>& graph_;
-  std::vector<const OdometryChain<Pose>*> chains_;
-  std::vector<int> firsts_;  // each chain's first pose, ascending
+  const ChainOdometry<Pose>& chains_;
   ConvergenceOptions convergence_;
   int most_junctions_;
   Junctions junctions_;
@@ -192,6 +207,9 @@ class MaintainedMap {
   };
   std::unique_ptr<KeptTrial> last_trial_;
   std::vector<bool> in_map_;  // by graph loop index
+  // The map's loops between each pair of chains (lower first), by count.
+  std::map<std::pair<int, int>, int> between_;
+  std::vector<int> map_of_;  // by chain
   // Minimize's local index of each pose of its problem, -1 for the others.
   std::vector<int> local_;
   int num_loops_ = 0;

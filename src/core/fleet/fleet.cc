@@ -16,7 +16,7 @@ Fleet<Pose>::Fleet(std::vector<std::string> robots, const FleetOptions& options)
     : robots_(std::move(robots)),
       options_(options),
       noise_(NoiseModelOf<Pose>(options.odometry)),
-      verifier_(options.rrr, options.judge_between_in_background),
+      verifier_(options.rrr),
       sessions_(robots_.size()),
       next_id_(robots_.size(), 0),
       restart_(robots_.size(), false),
@@ -85,9 +85,13 @@ typename Fleet<Pose>::Taken Fleet<Pose>::AddKeyframe(
   taken.id = next_id_[robot]++;
   last_reading_[robot] = keyframe;
   if (new_session) {
-    taken.chain = verifier_.AddChain(taken.id, keyframe.odometry_pose);
+    // The verifier's ids: each robot's apart, a gap of one between sessions.
+    const PoseId base = (static_cast<PoseId>(robot) << 40) +
+                        static_cast<PoseId>(sessions_[robot].size());
+    taken.chain = verifier_.AddChain(base + taken.id, keyframe.odometry_pose);
     sessions_by_chain_.push_back({taken.chain,
                                   taken.id,
+                                  base,
                                   TrackOf<Pose>(options_.odometry),
                                   {keyframe.odometry_pose}});
     sessions_by_chain_.back().track.Append(keyframe);
@@ -202,7 +206,10 @@ int Fleet<Pose>::AddLoop(int robot_a, std::int64_t id_a, int robot_b,
   }
   const Session& a = SessionHolding(robot_a, id_a);
   const Session& b = SessionHolding(robot_b, id_b);
-  return verifier_.AddLoop({a.chain, id_a}, {b.chain, id_b}, z, information);
+  const int candidate =
+      verifier_.AddLoop(a.base + id_a, b.base + id_b, z, information);
+  ends_.push_back({{a.chain, id_a}, {b.chain, id_b}});
+  return candidate;
 }
 
 template <class Pose>
@@ -237,28 +244,59 @@ std::vector<DecisionChange> Fleet<Pose>::Finish() {
 }
 
 template <class Pose>
-std::vector<DecisionChange> Fleet<Pose>::UpdateChains() {
-  return verifier_.UpdateChains();
-}
-
-template <class Pose>
-std::vector<DecisionChange> Fleet<Pose>::JudgeNow() {
-  std::vector<DecisionChange> changes = verifier_.JudgeNow();
-  RefreshMaps();
-  return changes;
-}
-
-template <class Pose>
 void Fleet<Pose>::RefreshMaps() {
+  const std::vector<Pose> map = verifier_.Map();
   for (Session& session : sessions_by_chain_) {
-    session.map = verifier_.Map(session.chain);
+    const std::vector<int>& poses = verifier_.chains().poses(session.chain);
+    session.map.resize(poses.size());
+    for (size_t k = 0; k < poses.size(); ++k) session.map[k] = map[poses[k]];
   }
+}
+
+template <class Pose>
+PoseId Fleet<Pose>::DecidedAt(int candidate) const {
+  const int pose = verifier_.reason(candidate).pose;
+  if (pose < 0) return -1;
+  const ChainOdometry<Pose>& chains = verifier_.chains();
+  return sessions_by_chain_[chains.chain_of(pose)].first_id +
+         chains.position(pose);
+}
+
+template <class Pose>
+PoseGraph<Pose> Fleet<Pose>::Graph(std::vector<int>* candidate_of_loop) const {
+  const PoseGraph<Pose>& all = verifier_.graph();
+  const ChainOdometry<Pose>& chains = verifier_.chains();
+  PoseGraph<Pose> graph;
+  std::vector<int> index(all.num_poses());
+  PoseId id = 0;
+  for (int c = 0; c < chains.num_chains(); ++c) {
+    for (const int p : chains.poses(c)) {
+      index[p] = graph.AddPose(id++, all.estimates()[p]);
+    }
+    ++id;
+  }
+  for (Constraint<Pose> e : all.odometry()) {
+    e.from = index[e.from];
+    e.to = index[e.to];
+    graph.AddEdge(e);
+  }
+  std::vector<int> candidate(all.loops().size(), -1);
+  for (int c = 0; c < verifier_.num_candidates(); ++c) {
+    if (verifier_.loop_of(c) >= 0) candidate[verifier_.loop_of(c)] = c;
+  }
+  for (Constraint<Pose> e : all.loops()) {
+    e.from = index[e.from];
+    e.to = index[e.to];
+    graph.AddEdge(e);
+  }
+  if (candidate_of_loop) *candidate_of_loop = std::move(candidate);
+  return graph;
 }
 
 template <class Pose>
 int Fleet<Pose>::MapOfRobot(int robot) const {
   const std::vector<int>& chains = sessions_.at(robot);
-  return chains.empty() ? -1 : verifier_.map_of_chain(chains.back());
+  return chains.empty() ? -1 : verifier_.MapOfChain(chains.back());
 }
 
 template <class Pose>
@@ -273,7 +311,7 @@ template <class Pose>
 std::vector<Pose> Fleet<Pose>::Path(int robot, int map) const {
   std::vector<Pose> path;
   for (const int chain : sessions_.at(robot)) {
-    if (verifier_.map_of_chain(chain) != map) continue;
+    if (verifier_.MapOfChain(chain) != map) continue;
     const std::vector<Pose>& poses = sessions_by_chain_[chain].map;
     path.insert(path.end(), poses.begin(), poses.end());
   }
@@ -284,7 +322,7 @@ template <class Pose>
 std::vector<std::int64_t> Fleet<Pose>::PathStamps(int robot, int map) const {
   std::vector<std::int64_t> stamps;
   for (const int chain : sessions_.at(robot)) {
-    if (verifier_.map_of_chain(chain) != map) continue;
+    if (verifier_.MapOfChain(chain) != map) continue;
     const auto& own = sessions_by_chain_[chain].track.stamps().stamps();
     stamps.insert(stamps.end(), own.begin(), own.end());
   }
@@ -294,14 +332,14 @@ std::vector<std::int64_t> Fleet<Pose>::PathStamps(int robot, int map) const {
 template <class Pose>
 FleetGraph<Pose> Fleet<Pose>::AcceptedGraph(int map) const {
   std::vector<int> candidate_of_loop;
-  const PoseGraph<Pose> all = verifier_.Graph(&candidate_of_loop);
+  const PoseGraph<Pose> all = Graph(&candidate_of_loop);
   FleetGraph<Pose> out;
   std::vector<ChainSpan> spans;
   std::vector<Pose> estimates = all.estimates();
   int offset = 0;
-  for (int c = 0; c < verifier_.num_chains(); ++c) {
-    const int poses = verifier_.chain(c).graph().num_poses();
-    if (verifier_.map_of_chain(c) == map) {
+  for (int c = 0; c < num_chains(); ++c) {
+    const int poses = ChainSize(c);
+    if (verifier_.MapOfChain(c) == map) {
       const Session& session = sessions_by_chain_[c];
       spans.push_back({offset, offset + poses - 1});
       for (int k = 0; k < poses; ++k) {

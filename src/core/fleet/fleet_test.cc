@@ -54,7 +54,7 @@ TEST(Fleet, ARobotThatRestartsContinuesInASessionJoinedOnlyByItsLoops) {
   fleet.Finish();
 
   ASSERT_EQ(fleet.sessions(0).size(), 2u);
-  const PoseGraph<Pose2> recorded = fleet.verifier().Graph();
+  const PoseGraph<Pose2> recorded = fleet.Graph();
   EXPECT_EQ(recorded.odometry().size(), 998u) << "none across the restart";
   EXPECT_EQ(fleet.MapOfRobot(0), 0) << "the sessions joined";
   EXPECT_GE(fleet.verifier().num_in_state(LoopState::kAccepted),
@@ -162,7 +162,7 @@ TEST(Fleet, AJumpABackwardStampOrARequestStartsANewSession) {
   EXPECT_TRUE(taken.new_session) << "asked";
   EXPECT_EQ(taken.id, 4);
   EXPECT_EQ(fleet.sessions(0).size(), 4u);
-  EXPECT_EQ(fleet.verifier().Graph().odometry().size(), 1u);
+  EXPECT_EQ(fleet.Graph().odometry().size(), 1u);
 
   FleetOptions off = Options();
   off.restart_jump = 0.0;
@@ -223,9 +223,9 @@ TEST(Fleet, CandidatesByStampNameTheNearestKeyframeOnceItIsThere) {
   EXPECT_EQ(fleet.num_waiting_by_stamp(), 2) << "b's keyframe 3 not there";
   fleet.AddReading(1, b[3]);
   ASSERT_EQ(fleet.verifier().num_candidates(), 1);
-  EXPECT_EQ(fleet.verifier().from(0).id, 5);
-  EXPECT_EQ(fleet.verifier().to(0).id, 3);
-  EXPECT_EQ(fleet.robot_of_chain(fleet.verifier().to(0).chain), 1);
+  EXPECT_EQ(fleet.from(0).id, 5);
+  EXPECT_EQ(fleet.to(0).id, 3);
+  EXPECT_EQ(fleet.robot_of_chain(fleet.to(0).chain), 1);
   fleet.AddReading(1, b[4]);
   fleet.AddReading(1, b[5]);
   EXPECT_EQ(fleet.num_waiting_by_stamp(), 0);

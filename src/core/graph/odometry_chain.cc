@@ -77,7 +77,7 @@ std::vector<Constraint<Pose>> OdometryStepsOf(const PoseGraph<Pose>& graph) {
   using Information = typename Constraint<Pose>::Information;
   const int n = graph.num_poses();
   std::vector<Constraint<Pose>> steps(std::max(n - 1, 0));
-  std::vector<bool> linked(steps.size(), false);
+  for (Constraint<Pose>& s : steps) s.from = -1;
   for (const auto& e : graph.odometry()) {
     const bool forward = e.to == e.from + 1;
     const int k = (forward ? e.to : e.from) - 1;  // the step to the later pose
@@ -91,12 +91,11 @@ std::vector<Constraint<Pose>> OdometryStepsOf(const PoseGraph<Pose>& graph) {
       omega = ad_inv.transpose() * e.information * ad_inv;
     }
     Constraint<Pose>& s = steps[k];
-    if (!linked[k]) {
+    if (s.from < 0) {
       s.from = k;
       s.to = k + 1;
       s.measurement = step;
       s.information = omega;
-      linked[k] = true;
       continue;
     }
     // Fuse: the information-weighted mean in the tangent space at z.
@@ -106,12 +105,6 @@ std::vector<Constraint<Pose>> OdometryStepsOf(const PoseGraph<Pose>& graph) {
     s.measurement = s.measurement * Pose::Exp(shift);
     s.information = sum;
   }
-  for (size_t k = 0; k < steps.size(); ++k) {
-    if (!linked[k]) {
-      throw std::invalid_argument("pose " + std::to_string(graph.ids()[k + 1]) +
-                                  " has no odometry to its predecessor");
-    }
-  }
   return steps;
 }
 
@@ -120,6 +113,11 @@ OdometryChain<Pose> ChainOf(const PoseGraph<Pose>& graph) {
   OdometryChain<Pose> chain;
   chain.Reserve(graph.num_poses());
   for (const Constraint<Pose>& step : OdometryStepsOf(graph)) {
+    if (step.from < 0) {
+      throw std::invalid_argument(
+          "pose " + std::to_string(graph.ids()[chain.num_poses()]) +
+          " has no odometry to its predecessor");
+    }
     chain.Append(step.measurement, step.information);
   }
   return chain;

@@ -11,10 +11,9 @@ namespace rrr {
 
 template <class Pose>
 int PoseGraph<Pose>::AddPose(PoseId id, const Pose& estimate) {
-  if (!ids_.empty() && id <= ids_.back()) {
+  if (index_of_.count(id) > 0) {
     throw std::invalid_argument("pose id " + std::to_string(id) +
-                                " does not increase (last is " +
-                                std::to_string(ids_.back()) + ")");
+                                " is a pose already");
   }
   const int index = num_poses();
   ids_.push_back(id);

@@ -14,11 +14,11 @@ bool Near(PoseId x, PoseId low, PoseId high, PoseId window) {
 
 }  // namespace
 
-int Clustering::Add(int loop, PoseId a, PoseId b) {
-  const PoseId start = std::max(a, b), end = std::min(a, b);
+int Clustering::Add(int loop, PoseId start, PoseId end, std::int64_t group) {
   for (size_t c = 0; c < clusters_.size(); ++c) {
     Cluster& cl = clusters_[c];
-    if (!cl.closed && Near(start, cl.start_low, cl.start_high, window_) &&
+    if (!cl.closed && cl.group == group &&
+        Near(start, cl.start_low, cl.start_high, window_) &&
         Near(end, cl.end_low, cl.end_high, window_)) {
       cl.start_low = std::min(cl.start_low, start);
       cl.start_high = std::max(cl.start_high, start);
@@ -28,17 +28,18 @@ int Clustering::Add(int loop, PoseId a, PoseId b) {
       return static_cast<int>(c);
     }
   }
-  clusters_.push_back(Cluster{start, start, end, end, {loop}});
+  clusters_.push_back(Cluster{start, start, end, end, {loop}, false, group});
   return static_cast<int>(clusters_.size()) - 1;
 }
 
 template <class Stream, class Self>
 void Clustering::Transfer(Stream* io, Self* self) {
-  io->Size(&self->clusters_, 6 * sizeof(std::int64_t), "clusters");
+  io->Size(&self->clusters_, 7 * sizeof(std::int64_t), "clusters");
   for (auto& c : self->clusters_) {
     for (auto* id : {&c.start_low, &c.start_high, &c.end_low, &c.end_high}) {
       io->Field(id, "a cluster's bounds");
     }
+    io->Field(&c.group, "a cluster's group");
     io->Field(&c.loops, "a cluster's loops");
     io->Field(&c.closed, "whether a cluster is closed");
   }
@@ -58,8 +59,8 @@ std::vector<Cluster> ClusterInBatchOrder(
   Clustering clustering(window);
   cluster_of_loop->assign(loop_ends.size(), -1);
   for (const int k : order) {
-    (*cluster_of_loop)[k] =
-        clustering.Add(k, loop_ends[k].first, loop_ends[k].second);
+    const auto [a, b] = loop_ends[k];
+    (*cluster_of_loop)[k] = clustering.Add(k, std::max(a, b), std::min(a, b));
   }
   return clustering.clusters();
 }

@@ -15,12 +15,21 @@ TEST(Clustering, NearbyLoopsShareAClusterAndFarOnesDoNot) {
   EXPECT_EQ(c.clusters()[0].loops, (std::vector<int>{0, 1}));
 }
 
-TEST(Clustering, OrderOfEndsDoesNotMatter) {
+TEST(Clustering, LoopsOfAnotherGroupNeverShareACluster) {
   Clustering c(10);
-  c.Add(0, 100, 20);
-  EXPECT_EQ(c.Add(1, 22, 103), 0);  // start = max, end = min
-  EXPECT_EQ(c.clusters()[0].start_high, 103);
-  EXPECT_EQ(c.clusters()[0].end_high, 22);
+  c.Add(0, 100, 20, 1);
+  EXPECT_EQ(c.Add(1, 101, 21, 2), 1);  // as near, between other chains
+  EXPECT_EQ(c.Add(2, 102, 22, 1), 0);
+  EXPECT_EQ(c.clusters()[1].group, 2);
+}
+
+TEST(Clustering, BatchOrderTakesTheLaterEndAsTheStart) {
+  std::vector<int> cluster_of;
+  const std::vector<Cluster> clusters =
+      ClusterInBatchOrder({{100, 20}, {22, 103}}, 10, &cluster_of);
+  ASSERT_EQ(clusters.size(), 1u);
+  EXPECT_EQ(clusters[0].start_high, 103);
+  EXPECT_EQ(clusters[0].end_high, 22);
 }
 
 TEST(Clustering, WindowIsStrict) {

@@ -4,13 +4,13 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
-#include "rrr/rrr/chains/chains_verifier.h"
 
 namespace rrr {
 
-template <class Verifier>
-std::vector<int> DecisionDelta::NextOf(
-    const Verifier& verifier, const std::vector<DecisionChange>& changes) {
+template <class Pose>
+std::vector<int> DecisionDelta::Next(
+    const OnlineVerifier<Pose>& verifier,
+    const std::vector<DecisionChange>& changes) {
   const int carried = static_cast<int>(cluster_.size());
   std::vector<int> next;
   for (const DecisionChange& change : changes) {
@@ -56,13 +56,9 @@ std::vector<int> DecisionDelta::NextOf(
   return next;
 }
 
-template std::vector<int> DecisionDelta::NextOf(
+template std::vector<int> DecisionDelta::Next(
     const OnlineVerifier<Pose2>&, const std::vector<DecisionChange>&);
-template std::vector<int> DecisionDelta::NextOf(
+template std::vector<int> DecisionDelta::Next(
     const OnlineVerifier<Pose3>&, const std::vector<DecisionChange>&);
-template std::vector<int> DecisionDelta::NextOf(
-    const ChainsVerifier<Pose2>&, const std::vector<DecisionChange>&);
-template std::vector<int> DecisionDelta::NextOf(
-    const ChainsVerifier<Pose3>&, const std::vector<DecisionChange>&);
 
 }  // namespace rrr

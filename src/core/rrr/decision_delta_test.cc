@@ -7,7 +7,6 @@
 
 #include "../testing/chain_worlds.h"
 #include "rrr/geometry/pose2.h"
-#include "rrr/rrr/chains/chains_verifier.h"
 #include "rrr/rrr/map/map_verifier.h"
 #include "rrr/rrr/published/incremental_verifier.h"
 #include "rrr/sim/simulated_world.h"
@@ -26,14 +25,12 @@ struct Known {
 };
 using Table = std::map<int, Known>;
 
-// Of an OnlineVerifier or a ChainsVerifier.
-template <class Verifier>
-Known Now(const Verifier& v, int c) {
+Known Now(const OnlineVerifier<Pose2>& v, int c) {
   return {v.state(c), v.cluster_of(c), v.waiting(c)};
 }
 
-template <class Verifier>
-void Carry(const Verifier& v, const std::vector<int>& carried, Table* table) {
+void Carry(const OnlineVerifier<Pose2>& v, const std::vector<int>& carried,
+           Table* table) {
   for (const int c : carried) (*table)[c] = Now(v, c);
 }
 
@@ -131,15 +128,15 @@ TEST(DecisionDelta, CarriesACandidateAgainWhenItStopsWaiting) {
 
 TEST(DecisionDelta, FollowsCandidatesWithinAndBetweenChains) {
   RrrOptions options;
-  ChainsVerifier<Pose2> v(options);
+  MapVerifier<Pose2> v(options);
   DecisionDelta delta;
   const Pose2::Jacobian info = Pose2::Jacobian::Identity() * 100;
   const int a = v.AddChain(0, Pose2());
   const int b = v.AddChain(100, Pose2(0, 5, 0));
   v.AddOdometry(a, Pose2(1, 0, 0), info);
   // Ahead of chain a's poses, and between a and a pose of b not there yet.
-  const int inside = v.AddLoop({a, 4}, {a, 0}, Pose2(-4, 0, 0), info);
-  const int between = v.AddLoop({a, 1}, {b, 102}, Pose2(1, 5, 0), info);
+  const int inside = v.AddLoop(4, 0, Pose2(-4, 0, 0), info);
+  const int between = v.AddLoop(1, 102, Pose2(1, 5, 0), info);
   EXPECT_EQ(delta.Next(v, {}), (std::vector<int>{inside, between}));
   EXPECT_TRUE(delta.Next(v, {}).empty());
   for (int k = 0; k < 3; ++k) v.AddOdometry(a, Pose2(1, 0, 0), info);
@@ -157,17 +154,16 @@ TEST(DecisionDelta, WhatItCarriesAddsUpOverTwoSessions) {
   size_t true_loops = 0;
   const PoseGraph<Pose2> graph = testing::TwoSessionsWithFalseLoops(
       SimulateWorld(testing::Grid(800, 5)), 400, &true_loops);
-  ChainsVerifier<Pose2> v(testing::ChainWorldOptions());
+  MapVerifier<Pose2> v(testing::ChainWorldOptions());
   DecisionDelta delta;
   Table table;
   size_t carried_total = 0;
-  FeedSideBySide<Pose2>(
-      graph, &v, 1, {}, [&](const std::vector<DecisionChange>& changes) {
-        const std::vector<int> carried = delta.Next(v, changes);
-        carried_total += carried.size();
-        Carry(v, carried, &table);
-      });
-  Carry(v, delta.Next(v, v.Finish()), &table);
+  const auto carry = [&](const std::vector<DecisionChange>& changes) {
+    const std::vector<int> carried = delta.Next(v, changes);
+    carried_total += carried.size();
+    Carry(v, carried, &table);
+  };
+  FeedInArrivalOrder<Pose2>(graph, &v, 1, carry, 0, ArrivalOrder(graph, true));
   ASSERT_EQ(table.size(), static_cast<size_t>(v.num_candidates()));
   int accepted = 0;
   for (int c = 0; c < v.num_candidates(); ++c) {

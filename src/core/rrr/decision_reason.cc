@@ -22,10 +22,6 @@ const char* ToString(DecisionTest test) {
       return "join";
     case DecisionTest::kApart:
       return "apart";
-    case DecisionTest::kMapBound:
-      return "map_bound";
-    case DecisionTest::kJoinedMap:
-      return "joined_map";
   }
   return "unknown";
 }

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/chain_spans.h"
 #include "rrr/graph/odometry_chain.h"
 
 namespace rrr {
@@ -31,22 +33,49 @@ OnlineVerifier<Pose>::OnlineVerifier(const RrrOptions& bounds)
 template <class Pose>
 void OnlineVerifier<Pose>::AddFirstPose(PoseId id, const Pose& pose) {
   if (graph_.num_poses() > 0) throw std::logic_error("the chain has started");
-  graph_.AddPose(id, pose);
+  AddChain(id, pose);
+}
+
+template <class Pose>
+int OnlineVerifier<Pose>::AddChain(PoseId id, const Pose& pose) {
+  if (num_chains() > 0 && !JudgesSeveralChains()) {
+    throw std::logic_error("this procedure judges one odometry chain");
+  }
+  const int p = graph_.AddPose(id, pose);
+  const int chain = chains_.AddChain(p);
+  chain_of_first_id_[id] = chain;
   ApplyWaiting();
+  return chain;
+}
+
+template <class Pose>
+PoseId OnlineVerifier<Pose>::AddOdometry(int chain, const Pose& z,
+                                         const Information& information) {
+  if (chain < 0 || chain >= num_chains()) {
+    throw std::out_of_range("chain " + std::to_string(chain) +
+                            " does not exist");
+  }
+  const int from = chains_.poses(chain).back();
+  const PoseId id = graph_.ids()[from] + 1;
+  if (graph_.IndexOf(id) >= 0) {
+    throw std::logic_error("the next pose of chain " + std::to_string(chain) +
+                           ", id " + std::to_string(id) +
+                           ", is a pose of another chain");
+  }
+  const int to = graph_.AddPose(id, graph_.estimates()[from] * z);
+  graph_.AddEdge(Constraint<Pose>{from, to, z, information});
+  chains_.Append(chain, to, z, information);
+  ApplyWaiting();
+  return id;
 }
 
 template <class Pose>
 PoseId OnlineVerifier<Pose>::AddOdometry(const Pose& z,
                                          const Information& information) {
-  if (graph_.num_poses() == 0) {
+  if (num_chains() == 0) {
     throw std::logic_error("odometry before the first pose");
   }
-  const int from = graph_.num_poses() - 1;
-  const PoseId id = graph_.ids().back() + 1;
-  const int to = graph_.AddPose(id, graph_.estimates().back() * z);
-  graph_.AddEdge(Constraint<Pose>{from, to, z, information});
-  ApplyWaiting();
-  return id;
+  return AddOdometry(num_chains() - 1, z, information);
 }
 
 template <class Pose>
@@ -62,19 +91,26 @@ int OnlineVerifier<Pose>::AddLoop(PoseId a, PoseId b, const Pose& z,
         CandidateDefect::kConsecutivePoses,
         "candidate " + pair + " links consecutive poses (that is odometry)");
   }
-  if (graph_.num_poses() > 0 && std::min(a, b) < graph_.ids().front()) {
-    throw DegenerateCandidate(
-        CandidateDefect::kUnknownPose,
-        "candidate " + pair + ": pose " + std::to_string(std::min(a, b)) +
-            " precedes the first pose " + std::to_string(graph_.ids().front()));
-  }
-  const PoseId newest = graph_.num_poses() > 0 ? graph_.ids().back() : 0;
-  if (graph_.num_poses() > 0 && std::max(a, b) > newest + max_future_poses_) {
-    throw DegenerateCandidate(
-        CandidateDefect::kTooFarAhead,
-        "candidate " + pair + ": pose " + std::to_string(std::max(a, b)) +
-            " is more than " + std::to_string(max_future_poses_) +
-            " poses past the newest, " + std::to_string(newest));
+  if (num_chains() > 0) {
+    const PoseId first = chain_of_first_id_.begin()->first;
+    if (std::min(a, b) < first) {
+      throw DegenerateCandidate(
+          CandidateDefect::kUnknownPose,
+          "candidate " + pair + ": pose " + std::to_string(std::min(a, b)) +
+              " precedes the first pose " + std::to_string(first));
+    }
+    for (const PoseId id : {std::max(a, b), std::min(a, b)}) {
+      // The chain whose ids `id` falls among: the last to start before it.
+      const int chain = std::prev(chain_of_first_id_.upper_bound(id))->second;
+      const PoseId newest = graph_.ids()[chains_.poses(chain).back()];
+      if (id > newest + max_future_poses_) {
+        throw DegenerateCandidate(
+            CandidateDefect::kTooFarAhead,
+            "candidate " + pair + ": pose " + std::to_string(id) +
+                " is more than " + std::to_string(max_future_poses_) +
+                " poses past the newest, " + std::to_string(newest));
+      }
+    }
   }
   const bool waits = graph_.IndexOf(a) < 0 || graph_.IndexOf(b) < 0;
   if (waits && num_waiting() >= max_waiting_) {
@@ -235,39 +271,65 @@ void OnlineVerifier<Pose>::SetState(int candidate, LoopState state,
 }
 
 template <class Pose>
+std::vector<int> ArrivalOrder(const PoseGraph<Pose>& graph, bool side_by_side) {
+  std::vector<int> order(graph.num_poses());
+  std::iota(order.begin(), order.end(), 0);
+  if (!side_by_side) return order;
+  const std::vector<ChainSpan> spans = ChainSpansOf(graph);
+  order.clear();
+  for (int k = 0; order.size() < static_cast<size_t>(graph.num_poses()); ++k) {
+    for (const ChainSpan& span : spans) {
+      if (k < span.size()) order.push_back(span.first + k);
+    }
+  }
+  return order;
+}
+
+template <class Pose>
 std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose>& graph, OnlineVerifier<Pose>* verifier,
     int update_every,
     const std::function<void(const std::vector<DecisionChange>&)>& on_changes,
-    int loop_lag) {
+    int loop_lag, const std::vector<int>& order, bool finish) {
+  const std::vector<int> arrival =
+      order.empty() ? ArrivalOrder(graph, false) : order;
+  const int n = static_cast<int>(arrival.size());
+  std::vector<int> arrived_at(graph.num_poses(), -1);
+  for (int k = 0; k < n; ++k) arrived_at[arrival[k]] = k;
   const std::vector<Constraint<Pose>> steps = OdometryStepsOf(graph);
-  std::vector<std::vector<int>> ending_at(graph.num_poses());
+  std::vector<std::vector<int>> ending_at(n);
   for (size_t k = 0; k < graph.loops().size(); ++k) {
     const auto& e = graph.loops()[k];
+    if (arrived_at[e.from] < 0 || arrived_at[e.to] < 0) continue;
     const int lag = static_cast<int>(k) % (loop_lag + 1);
-    ending_at[std::min(std::max(e.from, e.to) + lag, graph.num_poses() - 1)]
+    ending_at[std::min(std::max(arrived_at[e.from], arrived_at[e.to]) + lag,
+                       n - 1)]
         .push_back(static_cast<int>(k));
   }
   const auto report = [&](const std::vector<DecisionChange>& changes) {
     if (on_changes) on_changes(changes);
   };
   std::vector<int> loop_of_candidate;
-  verifier->Reserve(graph.num_poses(), static_cast<int>(graph.loops().size()));
-  for (int p = 0; p < graph.num_poses(); ++p) {
-    if (p == 0) {
-      verifier->AddFirstPose(graph.ids()[0], graph.estimates()[0]);
+  std::vector<int> chain_of(graph.num_poses(), -1);  // the verifier's chains
+  verifier->Reserve(n, static_cast<int>(graph.loops().size()));
+  for (int k = 0; k < n; ++k) {
+    const int p = arrival[k];
+    if (p == 0 || steps[p - 1].from < 0) {
+      chain_of[p] = verifier->AddChain(graph.ids()[p], graph.estimates()[p]);
     } else {
-      verifier->AddOdometry(steps[p - 1].measurement, steps[p - 1].information);
+      chain_of[p] = chain_of[p - 1];
+      verifier->AddOdometry(chain_of[p], steps[p - 1].measurement,
+                            steps[p - 1].information);
     }
-    for (const int k : ending_at[p]) {
-      const auto& e = graph.loops()[k];
+    for (const int loop : ending_at[k]) {
+      const auto& e = graph.loops()[loop];
       verifier->AddLoop(graph.ids()[e.from], graph.ids()[e.to], e.measurement,
                         e.information);
-      loop_of_candidate.push_back(k);
+      loop_of_candidate.push_back(loop);
     }
-    if ((p + 1) % update_every == 0) report(verifier->Update());
+    if ((k + 1) % update_every == 0) report(verifier->Update());
   }
-  report(verifier->Finish());
+  if (finish) report(verifier->Finish());
   return loop_of_candidate;
 }
 
@@ -298,12 +360,16 @@ Verdict VerdictOf(const OnlineVerifier<Pose>& verifier,
 
 template class OnlineVerifier<Pose2>;
 template class OnlineVerifier<Pose3>;
+template std::vector<int> ArrivalOrder(const PoseGraph<Pose2>&, bool);
+template std::vector<int> ArrivalOrder(const PoseGraph<Pose3>&, bool);
 template std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose2>&, OnlineVerifier<Pose2>*, int,
-    const std::function<void(const std::vector<DecisionChange>&)>&, int);
+    const std::function<void(const std::vector<DecisionChange>&)>&, int,
+    const std::vector<int>&, bool);
 template std::vector<int> FeedInArrivalOrder(
     const PoseGraph<Pose3>&, OnlineVerifier<Pose3>*, int,
-    const std::function<void(const std::vector<DecisionChange>&)>&, int);
+    const std::function<void(const std::vector<DecisionChange>&)>&, int,
+    const std::vector<int>&, bool);
 template Verdict VerdictOf(const OnlineVerifier<Pose2>&,
                            const std::vector<int>&, int);
 template Verdict VerdictOf(const OnlineVerifier<Pose3>&,

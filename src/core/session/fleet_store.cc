@@ -253,16 +253,14 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
   FleetResumeSummary summary;
   const std::vector<UpdateRow> updates = ReadUpdates(&s.db);
   size_t next = 0;
-  // Each update replayed for the chains' own decisions; rules 1–5 between
-  // chains once at the end (their last run decides what they decide).
-  bool judged = true;
+  // Each update replayed where it ran: the decisions depend only on the
+  // inputs and their order.
   const auto run_updates_until = [&](std::int64_t seq) {
     for (; next < updates.size() && updates[next].last_seq <= seq; ++next) {
-      judged = updates[next].finish;
-      if (judged) {
+      if (updates[next].finish) {
         fleet->Finish();
       } else {
-        fleet->UpdateChains();
+        fleet->Update();
       }
       ++summary.updates;
     }
@@ -326,7 +324,6 @@ FleetResumeSummary FleetStore<Pose>::Resume(Fleet<Pose>* fleet) {
     run_updates_until(seq);
   }
   run_updates_until(s.next_seq);
-  if (!judged) fleet->JudgeNow();
   const auto& verifier = fleet->verifier();
   for (const auto& [candidate, state] : ReadFinalStates(&s.db)) {
     if (candidate >= verifier.num_candidates() ||

@@ -107,7 +107,7 @@ TEST_F(FleetStoreTest, AResumeAfterACrashHasEveryCommittedInputAndDecision) {
     const auto session = Open({"a", "b"});
     Drive(0, 250, session.get());
     at_last_commit = States(session->fleet());
-    keyframes = session->fleet().verifier().Graph().num_poses();
+    keyframes = session->fleet().Graph().num_poses();
     Drive(250, 255, session.get());  // then the process dies
   }
   ASSERT_EQ(keyframes, 500);
@@ -147,7 +147,7 @@ TEST_F(FleetStoreTest, AResumeAfterACrashHasEveryCommittedInputAndDecision) {
   EXPECT_EQ(fleet.verifier().num_candidates(), before + fed);
   EXPECT_EQ(fleet.sessions(0).size(), 2u);
   EXPECT_EQ(fleet.sessions(1).size(), 2u);
-  EXPECT_EQ(fleet.verifier().Graph().odometry().size(), 2u * (249 + 144))
+  EXPECT_EQ(fleet.Graph().odometry().size(), 2u * (249 + 144))
       << "no odometry across the crash (nor between the robots)";
 }
 

@@ -18,7 +18,7 @@ TYPED_TEST_SUITE(CondensedSolveTest, Poses);
 TYPED_TEST(CondensedSolveTest, MatchesTheWholeChainSolvedToConvergence) {
   const auto graph = testing::NoisyChain<TypeParam>(
       400, {{20, 300}, {22, 302}, {25, 306}, {100, 110}}, 0.01);
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   const std::vector<int> loops = {0, 1, 2, 3};
   const CondensedErrors condensed =
       SolveCondensed(graph, chain, loops, ConvergenceOptions());
@@ -40,7 +40,7 @@ TYPED_TEST(CondensedSolveTest, MatchesTheWholeChainSolvedToConvergence) {
 
 TEST(CondensedSolve, AFalseLoopShowsAsALargeError) {
   auto graph = testing::NoisyChain<Pose2>(200, {{10, 40}}, 0.01);
-  const OdometryChain<Pose2> chain = ChainOf(graph);
+  const ChainOdometry<Pose2> chain = ChainOdometryOf(graph);
   const double good =
       SolveCondensed(graph, chain, {0}, ConvergenceOptions()).errors.total_chi2;
   auto bad = graph.loops()[0];

@@ -43,49 +43,55 @@ Pose BestBetween(const Constraint<Pose>& from_a, const Pose& xa,
 
 template <class Pose>
 MaintainedMap<Pose>::MaintainedMap(const PoseGraph<Pose>& graph,
-                                   const OdometryChain<Pose>& chain,
+                                   const ChainOdometry<Pose>& chains,
                                    const ConvergenceOptions& convergence,
                                    int most_junctions)
     : graph_(graph),
-      chains_{&chain},
-      firsts_{0},
+      chains_(chains),
       convergence_(convergence),
       most_junctions_(most_junctions) {
-  junctions_[0].x = graph.estimates().empty() ? Pose() : graph.estimates()[0];
+  for (int c = 0; c < chains.num_chains(); ++c) AddChain(c);
 }
 
 template <class Pose>
-MaintainedMap<Pose>::MaintainedMap(
-    const PoseGraph<Pose>& graph, const std::vector<ChainSpan>& spans,
-    const std::vector<OdometryChain<Pose>>& odometry,
-    const ConvergenceOptions& convergence, int most_junctions)
-    : graph_(graph),
-      convergence_(convergence),
-      most_junctions_(most_junctions) {
-  int first = 0;
-  for (size_t c = 0; c < spans.size(); ++c) {
-    chains_.push_back(&odometry.at(c));
-    firsts_.push_back(first);
-    junctions_[first].x = graph.estimates().at(first);
-    first += spans[c].size();
+void MaintainedMap<Pose>::AddChain(int chain) {
+  if (chain != static_cast<int>(map_of_.size())) {
+    throw std::logic_error("chains are taken in in order");
   }
+  const int first = chains_.poses(chain).front();
+  Junction& j = junctions_[chains_.Key(first)];
+  j.pose = first;
+  j.x = graph_.estimates().at(first);
+  map_of_.push_back(chain);
 }
 
 template <class Pose>
-int MaintainedMap<Pose>::ChainOf(int pose) const {
-  return static_cast<int>(
-             std::upper_bound(firsts_.begin(), firsts_.end(), pose) -
-             firsts_.begin()) -
-         1;
+std::vector<int> MaintainedMap<Pose>::Maps(int a, int b) const {
+  // Union by the lower chain over the pairs with loops (few, as chains are).
+  std::vector<int> map(map_of_.size());
+  for (size_t c = 0; c < map.size(); ++c) map[c] = static_cast<int>(c);
+  const auto root = [&](int c) {
+    while (map[c] != c) c = map[c];
+    return c;
+  };
+  for (const auto& [pair, count] : between_) {
+    if (count == 0 || (pair.first == a && pair.second == b)) continue;
+    const int x = root(pair.first), y = root(pair.second);
+    if (x != y) map[std::max(x, y)] = std::min(x, y);
+  }
+  for (size_t c = 0; c < map.size(); ++c) map[c] = root(static_cast<int>(c));
+  return map;
 }
 
 template <class Pose>
-Constraint<Pose> MaintainedMap<Pose>::Between(int i, int j) const {
-  const int c = ChainOf(i);
-  Constraint<Pose> e = chains_[c]->Between(i - firsts_[c], j - firsts_[c]);
-  e.from = i;
-  e.to = j;
-  return e;
+int MaintainedMap<Pose>::MapOfWithout(int chain, int a, int b) const {
+  return Maps(std::min(a, b), std::max(a, b))[chain];
+}
+
+template <class Pose>
+bool MaintainedMap<Pose>::Held(int pose) const {
+  const int c = chains_.chain_of(pose);
+  return chains_.position(pose) == 0 && map_of_[c] == c;
 }
 
 template <class Pose>
@@ -103,16 +109,18 @@ double MaintainedMap<Pose>::LoopChi2(int loop) const {
 
 template <class Pose>
 Pose MaintainedMap<Pose>::Estimate(int pose) const {
-  auto next = junctions_.upper_bound(pose);
-  auto prev = std::prev(next);
-  if (prev->first == pose) return prev->second.x;
-  const Constraint<Pose> from_prev = Between(prev->first, pose);
+  const Key key = chains_.Key(pose);
+  auto next = junctions_.upper_bound(key);
+  auto prev = std::prev(next);  // the chain's first pose is a junction
+  if (prev->first == key) return prev->second.x;
+  const Constraint<Pose> from_prev = chains_.Between(prev->second.pose, pose);
   Pose forward = prev->second.x * from_prev.measurement;
-  if (next == junctions_.end() || !SameChain(pose, next->first)) {
+  if (next == junctions_.end() || !SameChain(key, next->first)) {
     return forward;
   }
-  return BestBetween(from_prev, prev->second.x, Between(pose, next->first),
-                     next->second.x, forward);
+  return BestBetween(from_prev, prev->second.x,
+                     chains_.Between(pose, next->second.pose), next->second.x,
+                     forward);
 }
 
 template <class Pose>
@@ -134,19 +142,21 @@ std::vector<Pose> MaintainedMap<Pose>::Estimates(int threads) const {
 
 template <class Pose>
 void MaintainedMap<Pose>::Insert(int pose, bool temporary) {
-  auto it = junctions_.find(pose);
+  const Key key = chains_.Key(pose);
+  auto it = junctions_.find(key);
   if (it == junctions_.end()) {
     Junction j;
+    j.pose = pose;
     j.x = Estimate(pose);
-    it = junctions_.emplace(pose, std::move(j)).first;
+    it = junctions_.emplace(key, std::move(j)).first;
   }
   if (temporary) ++it->second.temporary;
 }
 
 template <class Pose>
 void MaintainedMap<Pose>::Release(int pose) {
-  const auto it = junctions_.find(pose);
-  if (it == junctions_.end() || firsts_[ChainOf(pose)] == pose) return;
+  const auto it = junctions_.find(chains_.Key(pose));
+  if (it == junctions_.end() || chains_.position(pose) == 0) return;
   if (it->second.temporary > 0) --it->second.temporary;
   if (it->second.temporary == 0 && it->second.loops.empty()) {
     junctions_.erase(it);
@@ -157,11 +167,11 @@ template <class Pose>
 std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
                                              int radius) const {
   std::vector<bool> reached(graph_.num_poses(), false);
-  std::vector<int> region;
+  std::vector<Key> region;
   const auto visit = [&](int pose, std::vector<int>* frontier) {
     if (reached[pose]) return;
     reached[pose] = true;
-    region.push_back(pose);
+    region.push_back(chains_.Key(pose));
     frontier->push_back(pose);
   };
   std::vector<int> frontier, next_frontier;
@@ -171,13 +181,14 @@ std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
        ++h) {
     next_frontier.clear();
     for (const int p : frontier) {
-      const auto it = junctions_.find(p);
-      if (it != junctions_.begin() && SameChain(std::prev(it)->first, p)) {
-        visit(std::prev(it)->first, &next_frontier);
+      const auto it = junctions_.find(chains_.Key(p));
+      if (it != junctions_.begin() &&
+          SameChain(std::prev(it)->first, it->first)) {
+        visit(std::prev(it)->second.pose, &next_frontier);
       }
       if (std::next(it) != junctions_.end() &&
-          SameChain(p, std::next(it)->first)) {
-        visit(std::next(it)->first, &next_frontier);
+          SameChain(it->first, std::next(it)->first)) {
+        visit(std::next(it)->second.pose, &next_frontier);
       }
       for (const int k : it->second.loops) {
         const auto& e = graph_.loops()[k];
@@ -187,16 +198,20 @@ std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
     frontier.swap(next_frontier);
   }
   std::sort(region.begin(), region.end());
-  return region;
+  std::vector<int> poses(region.size());
+  for (size_t k = 0; k < region.size(); ++k) {
+    poses[k] = chains_.PoseOfKey(region[k]);
+  }
+  return poses;
 }
 
 template <class Pose>
 const Constraint<Pose>& MaintainedMap<Pose>::ToNext(
     typename Junctions::iterator it) {
-  const int next = std::next(it)->first;
+  const int next = std::next(it)->second.pose;
   Junction& j = it->second;
   if (j.next != next) {
-    j.to_next = Between(it->first, next);
+    j.to_next = chains_.Between(j.pose, next);
     j.next = next;
   }
   return j.to_next;
@@ -207,14 +222,14 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
                                        const std::vector<int>& extra,
                                        std::vector<Pose>* relaxed,
                                        double fails_above) {
-  // Local indices: the region first (ascending), then the junctions it
+  // Local indices: the region first (in key order), then the junctions it
   // borders in the order the edges reach them (local_, cleared on return).
   std::vector<typename Junctions::iterator> at(region.size());
   for (size_t k = 0; k < region.size(); ++k) {
     const auto next = k > 0 ? std::next(at[k - 1]) : junctions_.end();
-    at[k] = next != junctions_.end() && next->first == region[k]
+    at[k] = next != junctions_.end() && next->second.pose == region[k]
                 ? next
-                : junctions_.find(region[k]);
+                : junctions_.find(chains_.Key(region[k]));
   }
   if (local_.size() < static_cast<size_t>(graph_.num_poses())) {
     local_.resize(graph_.num_poses(), -1);
@@ -244,18 +259,19 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
     const int p = region[k];
     const auto it = at[k];
     const auto next = std::next(it);
-    if (next != junctions_.end() && SameChain(p, next->first)) {
+    if (next != junctions_.end() && SameChain(it->first, next->first)) {
       Constraint<Pose> e = ToNext(it);
       e.from = index(p);
-      e.to = index(next->first);
+      e.to = index(next->second.pose);
       edges.push_back(e);
     }
-    if (it != junctions_.begin() && SameChain(std::prev(it)->first, p)) {
+    if (it != junctions_.begin() &&
+        SameChain(std::prev(it)->first, it->first)) {
       const auto before = std::prev(it);
-      const int local = local_[before->first];
+      const int local = local_[before->second.pose];
       if (local < 0 || local >= static_cast<int>(region.size())) {
         Constraint<Pose> e = ToNext(before);
-        e.from = index(before->first);
+        e.from = index(before->second.pose);
         e.to = index(p);
         edges.push_back(e);
       }
@@ -277,11 +293,11 @@ MapTrial MaintainedMap<Pose>::Minimize(const std::vector<int>& region,
   std::vector<Pose> x(poses.size());
   for (size_t k = 0; k < region.size(); ++k) x[k] = at[k]->second.x;
   for (size_t k = region.size(); k < poses.size(); ++k) {
-    x[k] = junctions_.at(poses[k]).x;
+    x[k] = junctions_.at(chains_.Key(poses[k])).x;
   }
   std::vector<int> free;
   for (size_t k = 0; k < region.size(); ++k) {
-    if (region[k] != 0) free.push_back(static_cast<int>(k));
+    if (!Held(region[k])) free.push_back(static_cast<int>(k));
   }
   std::vector<const Constraint<Pose>*> pointers;
   pointers.reserve(edges.size());
@@ -334,7 +350,7 @@ MapTrial MaintainedMap<Pose>::Try(const std::vector<int>& loops, int radius,
   kept->loops = loops;
   kept->radius = radius;
   for (size_t k = 0; k < region.size(); ++k) {
-    Junction& j = junctions_.at(region[k]);
+    Junction& j = junctions_.at(chains_.Key(region[k]));
     kept->estimate.emplace_back(region[k], j.x);
     j.x = relaxed[k];
   }
@@ -365,7 +381,9 @@ void MaintainedMap<Pose>::KeepTrial(double significant) {
   const std::unique_ptr<KeptTrial> trial = std::move(last_trial_);
   for (const int p : PosesTouched(graph_, trial->loops)) Insert(p, false);
   Attach(trial->loops);
-  for (const auto& [pose, x] : trial->estimate) junctions_.at(pose).x = x;
+  for (const auto& [pose, x] : trial->estimate) {
+    junctions_.at(chains_.Key(pose)).x = x;
+  }
   Relax(trial->loops, 2 * trial->radius, significant);
 }
 
@@ -389,26 +407,43 @@ void MaintainedMap<Pose>::Attach(const std::vector<int>& loops) {
   if (in_map_.size() < graph_.loops().size()) {
     in_map_.resize(graph_.loops().size(), false);
   }
+  bool between = false;
   for (const int k : loops) {
     if (in_map_[k]) continue;
     in_map_[k] = true;
     ++num_loops_;
-    junctions_.at(graph_.loops()[k].from).loops.push_back(k);
-    junctions_.at(graph_.loops()[k].to).loops.push_back(k);
+    const auto& e = graph_.loops()[k];
+    junctions_.at(chains_.Key(e.from)).loops.push_back(k);
+    junctions_.at(chains_.Key(e.to)).loops.push_back(k);
+    const int a = chains_.chain_of(e.from), b = chains_.chain_of(e.to);
+    if (a != b) {
+      ++between_[{std::min(a, b), std::max(a, b)}];
+      between = true;
+    }
   }
+  if (between) map_of_ = Maps(-1, -1);
 }
 
 template <class Pose>
 void MaintainedMap<Pose>::Detach(const std::vector<int>& loops) {
+  bool between = false;
   for (const int k : loops) {
     if (!Contains(k)) continue;
     in_map_[k] = false;
     --num_loops_;
-    for (const int p : {graph_.loops()[k].from, graph_.loops()[k].to}) {
-      auto& list = junctions_.at(p).loops;
+    const auto& e = graph_.loops()[k];
+    for (const int p : {e.from, e.to}) {
+      auto& list = junctions_.at(chains_.Key(p)).loops;
       list.erase(std::find(list.begin(), list.end(), k));
     }
+    const int a = chains_.chain_of(e.from), b = chains_.chain_of(e.to);
+    if (a != b) {
+      const auto pair = std::make_pair(std::min(a, b), std::max(a, b));
+      if (--between_[pair] == 0) between_.erase(pair);
+      between = true;
+    }
   }
+  if (between) map_of_ = Maps(-1, -1);
 }
 
 template <class Pose>
@@ -417,15 +452,6 @@ void MaintainedMap<Pose>::Add(const std::vector<int>& loops, int radius,
   for (const int p : PosesTouched(graph_, loops)) Insert(p, false);
   Attach(loops);
   Relax(loops, radius, significant);
-}
-
-template <class Pose>
-void MaintainedMap<Pose>::AddAt(const std::vector<int>& loops,
-                                const std::vector<Pose>& x) {
-  last_trial_.reset();
-  for (const int p : PosesTouched(graph_, loops)) Insert(p, false);
-  Attach(loops);
-  for (auto& [pose, j] : junctions_) j.x = x.at(pose);
 }
 
 template <class Pose>
@@ -438,11 +464,19 @@ void MaintainedMap<Pose>::Remove(const std::vector<int>& loops, int radius,
 }
 
 template <class Pose>
+void MaintainedMap<Pose>::Move(int map, const Pose& frame) {
+  last_trial_.reset();
+  for (auto& [key, j] : junctions_) {
+    if (map_of_[key >> 32] == map) j.x = frame * j.x;
+  }
+}
+
+template <class Pose>
 MinimizeResult MaintainedMap<Pose>::Optimize() {
   last_trial_.reset();
   std::vector<int> all;
   all.reserve(junctions_.size());
-  for (const auto& [pose, j] : junctions_) all.push_back(pose);
+  for (const auto& [key, j] : junctions_) all.push_back(j.pose);
   return Minimize(all, {}).minimize;
 }
 

@@ -13,9 +13,10 @@ namespace rrr {
 
 template <class Pose>
 void MaintainedMap<Pose>::Save(ByteWriter* out) const {
+  out->Int(num_chains());
   out->Int(static_cast<std::int64_t>(junctions_.size()));
-  for (const auto& [pose, j] : junctions_) {
-    out->Int(pose);
+  for (const auto& [key, j] : junctions_) {
+    out->Int(j.pose);
     out->PoseParts(j.x);
     out->Ints(j.loops);
     out->Int(j.temporary);
@@ -56,25 +57,48 @@ void MaintainedMap<Pose>::Restore(ByteReader* in) {
     }
     return loops;
   };
+  const std::int64_t taken = in->Int("the chains taken in");
+  if (taken < 0 || taken > chains_.num_chains()) {
+    throw std::runtime_error("the map takes in " + std::to_string(taken) +
+                             " chains of " +
+                             std::to_string(chains_.num_chains()));
+  }
   junctions_.clear();
   const size_t n = in->Count("junctions", sizeof(typename Pose::Parts));
   for (size_t k = 0; k < n; ++k) {
-    Junction& j = junctions_[checked_pose(in->Int("a junction"))];
+    const int pose = checked_pose(in->Int("a junction"));
+    if (chains_.chain_of(pose) >= taken) {
+      throw std::runtime_error("the map places pose " + std::to_string(pose) +
+                               " of a chain it has not taken in");
+    }
+    Junction& j = junctions_[chains_.Key(pose)];
+    j.pose = pose;
     j.x = in->template PoseParts<Pose>("a junction's estimate");
     j.loops = checked_loops(in->Ints("a junction's loops"));
     j.temporary = static_cast<int>(in->Int("a junction's tries"));
   }
   in_map_.assign(graph_.loops().size(), false);
   num_loops_ = 0;
+  between_.clear();
   for (const int k : checked_loops(in->Ints("the map's loops"))) {
     in_map_[k] = true;
     ++num_loops_;
+    const int a = chains_.chain_of(graph_.loops()[k].from);
+    const int b = chains_.chain_of(graph_.loops()[k].to);
+    if (std::max(a, b) >= taken) {
+      throw std::runtime_error("the map's loop " + std::to_string(k) +
+                               " reaches a chain it has not taken in");
+    }
+    if (a != b) ++between_[{std::min(a, b), std::max(a, b)}];
   }
+  map_of_.assign(taken, 0);
+  map_of_ = Maps(-1, -1);
   // What the map's operations rely on: every chain's first pose is a
   // junction, no junction is held by a negative count of tries, and each of the
   // map's loops is listed at the junctions of its two ends, once each.
   std::vector<std::pair<int, int>> listed, ends;  // (junction, loop)
-  for (const auto& [pose, j] : junctions_) {
+  for (const auto& [key, j] : junctions_) {
+    const int pose = j.pose;
     if (j.temporary < 0) {
       throw std::runtime_error("the junction at pose " + std::to_string(pose) +
                                " is held by " + std::to_string(j.temporary) +
@@ -93,8 +117,9 @@ void MaintainedMap<Pose>::Restore(ByteReader* in) {
     throw std::runtime_error(
         "the map's junctions do not list its loops at their ends");
   }
-  for (const int first : firsts_) {
-    if (junctions_.count(first) == 0) {
+  for (int c = 0; c < num_chains(); ++c) {
+    const int first = chains_.poses(c).front();
+    if (junctions_.count(chains_.Key(first)) == 0) {
       throw std::runtime_error("the map has no junction at pose " +
                                std::to_string(first) +
                                ", the first of a chain");
@@ -110,7 +135,7 @@ void MaintainedMap<Pose>::Restore(ByteReader* in) {
   for (auto& [pose, x] : last_trial_->estimate) {
     pose = checked_pose(in->Int("a kept trial's pose"));
     x = in->template PoseParts<Pose>("a kept trial's estimate");
-    if (junctions_.count(pose) == 0) {
+    if (junctions_.count(chains_.Key(pose)) == 0) {
       throw std::runtime_error("the kept trial places pose " +
                                std::to_string(pose) +
                                ", which is not a junction");

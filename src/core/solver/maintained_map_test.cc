@@ -57,7 +57,7 @@ PoseGraph<Pose> RevisitsWithAFalseLoop(int* false_loop) {
 // A map of `graph`'s revisits 0..5, minimized near them.
 template <class Pose>
 std::unique_ptr<MaintainedMap<Pose>> MapOfRevisits(
-    const PoseGraph<Pose>& graph, const OdometryChain<Pose>& chain) {
+    const PoseGraph<Pose>& graph, const ChainOdometry<Pose>& chain) {
   auto map =
       std::make_unique<MaintainedMap<Pose>>(graph, chain, kTight, kAnyRegion);
   map->Add({0, 1, 2, 3, 4, 5}, 100, 1e-9);
@@ -93,7 +93,7 @@ TYPED_TEST_SUITE(MaintainedMapTest, Poses);
 
 TYPED_TEST(MaintainedMapTest, TryGivesTheIncreaseOfTheWholeMapsMinimum) {
   const auto graph = Revisits<TypeParam>();
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
   map.Add(accepted, 100, 1e-9);
@@ -117,7 +117,7 @@ TYPED_TEST(MaintainedMapTest, TryGivesTheIncreaseOfTheWholeMapsMinimum) {
 TYPED_TEST(MaintainedMapTest, TryTakesTheIncreaseFromTheRegionsMinimum) {
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
   map.Add(accepted, 100, 1e-9);
@@ -136,7 +136,7 @@ TYPED_TEST(MaintainedMapTest, TryTakesTheIncreaseFromTheRegionsMinimum) {
 TYPED_TEST(MaintainedMapTest, ATrialStopsOnceItsLoopsCannotComeUnderTheGate) {
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   const double gate = 10.0;
   // The false loop: to the end, and stopped once it cannot pass the gate.
   const MapTrial full = MapOfRevisits(graph, chain)->Try({false_loop}, 100);
@@ -161,7 +161,7 @@ TYPED_TEST(MaintainedMapTest,
            AWideningStopsOnceItsLoopsCannotComeUnderTheGate) {
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   const auto map = MapOfRevisits(graph, chain);
   const double gate = 10.0;
   const auto passes = [&](const MapTrial& t) { return t.increase < gate; };
@@ -198,7 +198,7 @@ TYPED_TEST(MaintainedMapTest,
 TYPED_TEST(MaintainedMapTest, ARelaxationWidensAsFarAsItsCorrectionSpreads) {
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   // The false loop bends the whole map. Added over one hop: widened while a
   // widening lowers the error by more than 1e-9, the relaxation reaches the
   // map's minimum (a minimization of the whole map starts and ends there);
@@ -220,7 +220,7 @@ TYPED_TEST(MaintainedMapTest, ARelaxationWidensAsFarAsItsCorrectionSpreads) {
 TYPED_TEST(MaintainedMapTest, AKeptTrialRelaxesTheMapBeyondItsRegion) {
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<TypeParam>(&false_loop);
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   // A trial over one hop is at its region's minimum with the loop; kept, the
   // map around it is relaxed as after an Add, up to the map's minimum.
   const auto map = MapOfRevisits(graph, chain);
@@ -233,7 +233,7 @@ TYPED_TEST(MaintainedMapTest, AKeptTrialRelaxesTheMapBeyondItsRegion) {
 
 TYPED_TEST(MaintainedMapTest, RegionsStopGrowingAtTheJunctionLimit) {
   const auto graph = Revisits<TypeParam>();
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
   MaintainedMap<TypeParam> unlimited(graph, chain, kTight, kAnyRegion);
   // A limit below the tried loop's two ends: no hop layer is added.
@@ -257,7 +257,7 @@ TYPED_TEST(MaintainedMapTest, RegionsStopGrowingAtTheJunctionLimit) {
 
 TYPED_TEST(MaintainedMapTest, EstimatesAreNearTheWholeGraphsOptimum) {
   const auto graph = Revisits<TypeParam>();
-  const OdometryChain<TypeParam> chain = ChainOf(graph);
+  const ChainOdometry<TypeParam> chain = ChainOdometryOf(graph);
   MaintainedMap<TypeParam> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> loops = {0, 1, 2, 3, 4, 5, 6};
   map.Add(loops, 100, 1e-12);
@@ -289,13 +289,14 @@ TYPED_TEST(MaintainedMapTest, EstimatesAreNearTheWholeGraphsOptimum) {
 
 TYPED_TEST(MaintainedMapTest, ChainsAreRelatedByTheirLoopsAlone) {
   const auto graph = RevisitsInTwoSessions<TypeParam>();
-  const std::vector<ChainSpan> spans = ChainSpansOf(graph);
-  ASSERT_EQ(spans.size(), 2u);
-  const std::vector<OdometryChain<TypeParam>> odometry =
-      OdometryOf(graph, spans);
-  MaintainedMap<TypeParam> map(graph, spans, odometry, kTight, kAnyRegion);
+  const ChainOdometry<TypeParam> chains = ChainOdometryOf(graph);
+  ASSERT_EQ(chains.num_chains(), 2);
+  MaintainedMap<TypeParam> map(graph, chains, kTight, kAnyRegion);
+  EXPECT_EQ(map.MapOf(1), 1);  // apart until a loop joins them
   const std::vector<int> accepted = {0, 1, 2, 3, 4, 5};
   map.Add(accepted, 100, 1e-12);
+  EXPECT_EQ(map.MapOf(1), 0);
+  EXPECT_EQ(map.MapOfWithout(1, 0, 1), 1);  // loops 2 and 3 alone join them
   map.Optimize();
   // The minimum of the two sessions, every pose a variable: the map is near
   // it (as EstimatesAreNearTheWholeGraphsOptimum; its error 5 % over it in
@@ -317,9 +318,39 @@ TYPED_TEST(MaintainedMapTest, ChainsAreRelatedByTheirLoopsAlone) {
   EXPECT_NEAR(map.Try({6}, 100).increase, exact, 0.05 * exact);
 }
 
+TYPED_TEST(MaintainedMapTest, AMapMovesRigidlyAndFallsApartWhereItsLoopsGo) {
+  const auto graph = RevisitsInTwoSessions<TypeParam>();
+  const ChainOdometry<TypeParam> chains = ChainOdometryOf(graph);
+  MaintainedMap<TypeParam> map(graph, chains, kTight, kAnyRegion);
+  map.Add({0, 1, 4, 5}, 100, 1e-12);  // the sessions' own revisits
+  const std::vector<TypeParam> before = map.Estimates();
+  const double error = map.Optimize().final_chi2;
+  // Moving the second map leaves its error and the first map as they are.
+  const TypeParam frame = TypeParam::Exp(TypeParam::Tangent::Constant(0.3));
+  map.Move(1, frame);
+  EXPECT_NEAR(map.Optimize().initial_chi2, error, 1e-6 * error);
+  const std::vector<TypeParam> moved = map.Estimates();
+  for (const int p : {0, 100, 249}) {
+    EXPECT_LT((moved[p].translation() - before[p].translation()).norm(), 0.5);
+  }
+  EXPECT_LT((moved[250].translation() -
+             (frame * graph.estimates()[250]).translation())
+                .norm(),
+            1e-9);  // the second map's anchor, moved and held
+  // Joined by loops 2 and 3, then apart again: the second map stays where
+  // the joined map left it, held there.
+  map.Add({2, 3}, 100, 1e-12);
+  map.Optimize();
+  const TypeParam joined = map.Estimate(250);
+  map.Remove({2, 3}, 100, 1e-12);
+  EXPECT_EQ(map.MapOf(1), 1);
+  map.Optimize();
+  EXPECT_EQ(map.Estimate(250).parts(), joined.parts());
+}
+
 TEST(MaintainedMap, KeepTrialAddsTheLoopsWithTheTrialsEstimate) {
   const auto graph = Revisits<Pose2>();
-  const OdometryChain<Pose2> chain = ChainOf(graph);
+  const ChainOdometry<Pose2> chain = ChainOdometryOf(graph);
   MaintainedMap<Pose2> kept(graph, chain, kTight, kAnyRegion),
       added(graph, chain, kTight, kAnyRegion);
   kept.Try({0, 1}, 100);
@@ -339,7 +370,7 @@ TEST(MaintainedMap, KeepTrialAddsTheLoopsWithTheTrialsEstimate) {
 TEST(MaintainedMap, RemovingALoopRestoresTheMapWithoutIt) {
   int false_loop = -1;
   const auto graph = RevisitsWithAFalseLoop<Pose2>(&false_loop);
-  const OdometryChain<Pose2> chain = ChainOf(graph);
+  const ChainOdometry<Pose2> chain = ChainOdometryOf(graph);
   MaintainedMap<Pose2> map(graph, chain, kTight, kAnyRegion);
   const std::vector<int> good = {0, 1, 2, 3, 4, 5};
   map.Add(good, 100, 1e-12);

@@ -3,11 +3,12 @@
 #ifndef RRR_RRR_MAP_MAP_VERIFIER_H_
 #define RRR_RRR_MAP_MAP_VERIFIER_H_
 
+#include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "rrr/graph/odometry_chain.h"
 #include "rrr/rrr/chi_square.h"
 #include "rrr/rrr/clustering.h"
 #include "rrr/rrr/decision_reason.h"
@@ -27,24 +28,31 @@ struct MapVerifierStats {
   int rejudged = 0;          // clusters the arbiter judged again
   int optimizations = 0;     // whole-map minimizations
   int not_converged = 0;     // deciding minimizations stopped by the limit
+  int joins = 0;             // maps joined by the join rule
+  int join_revisions = 0;    // joins undone for a set with more evidence
   double noise_scale = 1.0;  // MapScaleAt the newest pose
   double group_noise_scale = 1.0;   // GroupScaleAt the newest pose
   std::string noise_scale_source;   // see OnlineVerifier::noise_scale_source
   double a_posteriori_scale = 0.0;  // MapVerifier::APosterioriScale
 };
 
-// The "map" procedure. Its four parts and the reason of each are stated once,
-// in the README's "The rule"; here is where each lives. Clusters form in
-// arrival order; one is ready when the robot has moved `cluster_window` poses
-// past its last loop, or when its later stretch spans kClusterSpanWindows
-// windows (it is then closed). Ready clusters are judged one at a time, in
-// the order of the pose at which they became ready. Every test compares an
-// error with a gate s·χ²(α, dof) (Gate), s from NoiseScaleEstimate (part 1):
-// MapScaleAt for one link against the map, GroupScaleAt for every test whose
-// error holds the odometry's drift between the revisits (a loop or a cluster
-// against the odometry alone, several links against the map).
+// The "map" procedure, over one odometry chain or several (robots of a
+// fleet, sessions of one robot) that grow side by side and are joined only by
+// loop closures. Its four parts and the reason of each, and the join rule,
+// are stated once, in the README's "The rule"; here is where each lives.
+// Clusters form in arrival order, per pair of chains, each end's ids counted
+// along its chain; one is ready when the chain of its later end has moved
+// `cluster_window` poses past its last loop, or when its later stretch spans
+// kClusterSpanWindows windows (it is then closed). Ready clusters are judged
+// one at a time, in the order of the pose at which they became ready. Every
+// test compares an error with a gate s·χ²(α, dof) (Gate), s from
+// NoiseScaleEstimate (part 1): MapScaleAt for one link against the map,
+// GroupScaleAt for every test whose error holds the odometry's drift between
+// the revisits (a loop or a cluster against the odometry alone, several
+// links against the map).
 //  2. JudgeCluster, JudgeAgainstMap and KeepAgreeing choose the links that
-//     agree: against the odometry alone (tests kAlone, kOwnLink, kOwn), then
+//     agree: against the odometry alone (tests kAlone, kOwnLink, kOwn; a
+//     cluster between two chains with their relative pose free), then
 //     against the map (kMapLink, kMap), where Δ is found over the junctions
 //     near the links' ends (MaintainedMap::Try, widened for several links by
 //     MaintainedMap::Widen): an upper bound of the whole map's, so a pass is
@@ -53,6 +61,12 @@ struct MapVerifierStats {
 //  4. Arbitrate judges again the clusters in doubt (InDoubt) after every
 //     whole-map minimization (`optimize_every`) and every reversal, until
 //     nothing changes or kMostArbiterRounds rounds.
+// The join rule (map_join.cc) relates two maps: a cluster between chains of
+// two maps that agrees with itself waits (kJoin) while JudgeJoin weighs the
+// sets of such clusters that agree with each other; the set with more
+// evidence than every other joins the maps, and a join is undone when a set
+// that contradicts it has more (ReviseJoin). Links still waiting at
+// Finish() are refused (kApart).
 // With an estimated scale, no cluster is judged before
 // NoiseScaleEstimate::kMinLoopSamples loops have sampled it (or Finish()).
 // The clusters ready at a pose are judged once the next pose exists (or at
@@ -79,9 +93,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   explicit MapVerifier(const RrrOptions& options);
   ~MapVerifier() override;
 
+  bool JudgesSeveralChains() const override { return true; }
   std::vector<DecisionChange> Update() override { return Judge(false); }
   std::vector<DecisionChange> Finish() override { return Judge(true); }
-  // The maintained map's estimates.
+  // The maintained map's estimates, each pose in its map's frame.
   std::vector<Pose> Map() override;
   // The maintained map's estimates of `poses` alone (each costs what one
   // pose between two junctions costs, whatever the size of the map).
@@ -90,6 +105,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
     return static_cast<int>(clustering_.clusters().size());
   }
   DecisionReason reason(int candidate) const override;
+  // The map chain `chain` is in: the lowest chain joined with it (itself if
+  // none), as of the last update.
+  int MapOfChain(int chain) const;
   // The counters, and the scales as of the newest pose.
   MapVerifierStats stats() const;
   // The scale of a test of one link against the map, for a decision as of
@@ -121,7 +139,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // refuses them (map_verifier_state_test.cc).
   friend class MapVerifierStatePeer;
 
-  enum class Status { kPending, kAccepted, kRefused };
+  // kHeld: between two maps, waiting for the join rule.
+  enum class Status { kPending, kAccepted, kRefused, kHeld };
   struct ClusterRecord {
     Status status = Status::kPending;
     std::vector<int> accepted;  // its links in the map, ascending
@@ -156,9 +175,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // pose is `newest`, or -1 if not yet.
   int DecisionPose(int c, int newest, bool finish) const;
   // Records why `links` are in their state, by `test` of `statistic` over
-  // their dof together (the gate and scale in force, and the decision pose).
+  // their dof together, e per link but `free_frames` (the gate and scale in
+  // force, and the decision pose).
   void Record(const std::vector<int>& links, DecisionTest test,
-              double statistic);
+              double statistic, int free_frames = 0);
   // Accepts `links` of `c` (kMap, Δ `statistic`): with the estimate of the
   // last trial if `from_trial`, else added to the map.
   void Accept(int c, const std::vector<int>& links, double statistic,
@@ -203,6 +223,44 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // clusters with fewer links in all than the difference.
   bool Outweigh(int c, const std::vector<int>& links, const MapTrial& failed,
                 size_t kept);
+  // map_join.cc: the join rule.
+  // The chains of cluster `c`'s two ends.
+  std::pair<int, int> ChainsOf(int c) const;
+  // Whether cluster `c` is between two chains.
+  bool IsBetween(int c) const;
+  // The links of `c` its own test kept (none refused against the odometry).
+  std::vector<int> OwnLinks(int c) const;
+  // Whether the own links of the clusters `a` and `b` (between the same
+  // chains) agree: together, they pass part 2 against the odometry alone.
+  bool Agree(const std::vector<int>& a, const std::vector<int>& b);
+  // Agree of two clusters, kept until either is judged again.
+  bool Agree(int a, int b);
+  // Whether clusters `a` and `b` of the same group have ranges closer than
+  // a window at both ends: pieces of one revisit, as the clustering cut it.
+  bool Adjacent(int a, int b) const;
+  // The revisits of `clusters` (ascending): clusters adjacent and agreeing,
+  // taken transitively, each with its evidence (its own links but one), the
+  // most first.
+  std::vector<std::pair<int, std::vector<int>>> Revisits(
+      const std::vector<int>& clusters);
+  // Holds `links` of `c`, between two maps, for the join rule (kJoin).
+  void Hold(int c, const std::vector<int>& links);
+  // The join rule for the maps of chains `a` and `b`, not joined: the held
+  // clusters between `a` and `b` in sets that agree; the set with more
+  // evidence than every other, and at least one link's, joins the maps.
+  void JudgeJoin(int a, int b);
+  // Places the map of `set`'s later chain by the set's links and judges the
+  // set's clusters against the map, then every held cluster whose chains
+  // are in one map now.
+  void Join(const std::vector<int>& set);
+  // After cluster `c` between chains in one map was refused against it: if
+  // the loops between its chains are all that ties their maps, and a set of
+  // refused clusters between them that agree (c's) has more evidence than
+  // those loops, they leave the map and the join rule judges again.
+  void ReviseJoin(int c);
+  // Refuses every held cluster (kApart), at Finish().
+  void RefuseApart();
+
   // Part 4, until nothing changes.
   void Arbitrate();
   // One round of part 4; returns whether it changed a decision.
@@ -220,8 +278,11 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::vector<double> alone_chi2_;
   std::vector<DecisionReason> reasons_;  // per loop
   std::vector<int> touched_;             // clusters whose decisions changed
-  OdometryChain<Pose> chain_;
   std::unique_ptr<MaintainedMap<Pose>> map_;
+  int chains_caught_ = 0;  // chains the map has taken in
+  // Agree's answers by pair of clusters (lower first), until either is
+  // judged again.
+  std::map<std::pair<int, int>, bool> agree_;
   NoiseScaleEstimate scale_;
   int decision_pose_ = 0;  // of the decision being made
   int judged_until_ = -1;  // the clusters ready up to this pose are judged

@@ -11,16 +11,18 @@
 
 namespace rrr {
 
-// Runs the map procedure over `graph` as the node would see it: its poses in
-// order, each loop candidate right after its later pose, an update after
-// every pose, then Finish(). Returns the decisions in graph.loops() indices;
-// sets `*map` to the final map's estimates and `*stats` if given. Throws
-// std::invalid_argument if `options` do not validate or a pose has no
-// odometry to its predecessor.
+// Runs the map procedure over `graph`, one odometry chain or several, as the
+// node would see it: its poses in `order` (ArrivalOrder; the graph's if
+// empty), each loop candidate right after its later pose, an update after
+// every pose, then Finish() (FeedInArrivalOrder). Returns the decisions in
+// graph.loops() indices; sets `*map` to the final map's estimates (each
+// pose in its map's frame) and `*stats` if given. Throws
+// std::invalid_argument if `options` do not validate.
 template <class Pose>
 Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
                       std::vector<Pose>* map = nullptr,
-                      MapVerifierStats* stats = nullptr);
+                      MapVerifierStats* stats = nullptr,
+                      const std::vector<int>& order = {});
 
 }  // namespace rrr
 

@@ -32,8 +32,9 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
   } else {
     ++stats_.own_solves;
     this->CountSolves(1);
-    const CondensedErrors own =
-        SolveCondensed(this->graph(), chain_, links, options_.convergence);
+    const CondensedErrors own = SolveCondensed(this->graph(), this->chains(),
+                                               links, options_.convergence);
+    trial.free_frames = own.free_frames;
     trial.minimize = own.minimize;
     trial.minimize.solved = own.errors.solved;
     trial.increase = own.errors.total_chi2;
@@ -46,8 +47,9 @@ MapTrial MapVerifier<Pose>::Test(const std::vector<int>& links,
 template <class Pose>
 bool MapVerifier<Pose>::Passes(const MapTrial& trial, Against against) const {
   const double one_link = Gate(against, 1);
+  const size_t checked = trial.loop_chi2.size() - trial.free_frames;
   return trial.minimize.solved &&
-         trial.increase < Gate(against, trial.loop_chi2.size()) &&
+         (checked == 0 || trial.increase < Gate(against, checked)) &&
          std::all_of(trial.loop_chi2.begin(), trial.loop_chi2.end(),
                      [&](double d2) { return d2 < one_link; });
 }
@@ -84,7 +86,7 @@ std::vector<int> MapVerifier<Pose>::KeepAgreeing(std::vector<int> links,
   }
   if (!Passes(*trial, against)) {
     Record(links, map ? DecisionTest::kMap : DecisionTest::kOwn,
-           trial->increase);
+           trial->increase, trial->free_frames);
     links.clear();
   }
   return links;
@@ -96,6 +98,14 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
   record.status = Status::kRefused;
   record.accepted.clear();
   touched_.push_back(c);
+  for (auto it = agree_.begin(); it != agree_.end();) {
+    it = it->first.first == c || it->first.second == c ? agree_.erase(it)
+                                                       : std::next(it);
+  }
+  // Between two maps that no join relates, the map cannot decide between
+  // groups: the first that agrees waits for the join rule.
+  const auto [a, b] = ChainsOf(c);
+  const bool apart = map_->MapOf(a) != map_->MapOf(b);
   std::vector<int> links;
   for (const int loop : clustering_.clusters()[c].loops) {
     if (alone_chi2_[loop] >= Gate(Against::kOdometry, 1)) {
@@ -121,8 +131,14 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
       }
     }
     if (!kept.empty()) groups.push_back(std::move(kept));
-    if (groups.size() == 2) break;
+    if (groups.size() == 2 || apart) break;
     links = std::move(left_out);
+  }
+  if (apart) {
+    if (groups.empty()) return;
+    Hold(c, groups.front());
+    JudgeJoin(a, b);
+    return;
   }
   std::stable_sort(
       groups.begin(), groups.end(),
@@ -291,7 +307,11 @@ bool MapVerifier<Pose>::ArbitrateOnce() {
   for (size_t i = 0; i < records_.size(); ++i) {
     const int c = static_cast<int>(i);
     ClusterRecord& record = records_[c];
-    if (record.status == Status::kPending) continue;
+    if (record.status == Status::kPending || record.status == Status::kHeld) {
+      continue;
+    }
+    const auto [a, b] = ChainsOf(c);
+    if (map_->MapOf(a) != map_->MapOf(b)) continue;  // no estimate relates them
     if (InDoubt(c)) {
       ++stats_.rejudged;
       if (record.status == Status::kAccepted) LeaveMap(c);

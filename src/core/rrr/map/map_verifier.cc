@@ -66,6 +66,11 @@ MapVerifierStats MapVerifier<Pose>::stats() const {
 }
 
 template <class Pose>
+int MapVerifier<Pose>::MapOfChain(int chain) const {
+  return map_ && chain < map_->num_chains() ? map_->MapOf(chain) : chain;
+}
+
+template <class Pose>
 DecisionReason MapVerifier<Pose>::reason(int candidate) const {
   const int loop = this->loop_of(candidate);
   if (loop < 0 || loop >= static_cast<int>(reasons_.size())) return {};
@@ -107,17 +112,15 @@ double MapVerifier<Pose>::Significant() const {
 template <class Pose>
 void MapVerifier<Pose>::Catch(int until) {
   const PoseGraph<Pose>& graph = this->graph();
+  const ChainOdometry<Pose>& chains = this->chains();
   if (graph.num_poses() == 0) return;
   const bool everything = until >= graph.num_poses() - 1;
   if (!map_) {
     map_ = std::make_unique<MaintainedMap<Pose>>(
-        graph, chain_, options_.convergence, options_.map_junctions);
+        graph, chains, options_.convergence, options_.map_junctions);
   }
-  // The verifier's graph has one forward odometry edge per pose, in order.
-  for (int k = chain_.num_poses(); k <= std::min(until, graph.num_poses() - 1);
-       ++k) {
-    const auto& e = graph.odometry()[k - 1];
-    chain_.Append(e.measurement, e.information);
+  while (map_->num_chains() < chains.num_chains()) {
+    map_->AddChain(map_->num_chains());
   }
   const PoseId span =
       static_cast<PoseId>(kClusterSpanWindows) * options_.cluster_window;
@@ -125,18 +128,33 @@ void MapVerifier<Pose>::Catch(int until) {
        loop < static_cast<int>(graph.loops().size()); ++loop) {
     if (!everything && this->poses_at_arrival(loop) - 1 > until) break;
     const auto& e = graph.loops()[loop];
-    const CondensedErrors alone =
-        SolveCondensed(graph, chain_, {loop}, options_.convergence);
-    alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2 : -1.0);
     reasons_.emplace_back();
-    if (alone.errors.solved) {
-      const Pose departure =
-          chain_.Relative(e.from, e.to).inverse() * e.measurement;
-      scale_.AddLoopSample(
-          this->poses_at_arrival(loop), alone.errors.total_chi2,
-          departure.translation().norm(), chain_.Travelled(e.from, e.to));
+    // The later end starts the cluster: the later pose of one chain, or
+    // between chains the later to arrive. Nothing but the odometry refutes
+    // a loop alone: between chains its test has no degree of freedom.
+    int later = std::max(e.from, e.to);
+    if (chains.chain_of(e.from) == chains.chain_of(e.to)) {
+      later = chains.position(e.from) > chains.position(e.to) ? e.from : e.to;
+      const CondensedErrors alone =
+          SolveCondensed(graph, chains, {loop}, options_.convergence);
+      alone_chi2_.push_back(alone.errors.solved ? alone.errors.total_chi2
+                                                : -1.0);
+      if (alone.errors.solved) {
+        const Pose departure =
+            chains.Relative(e.from, e.to).inverse() * e.measurement;
+        scale_.AddLoopSample(
+            this->poses_at_arrival(loop), alone.errors.total_chi2,
+            departure.translation().norm(), chains.Travelled(e.from, e.to));
+      }
+    } else {
+      alone_chi2_.push_back(-1.0);
     }
-    const int c = clustering_.Add(loop, graph.ids()[e.from], graph.ids()[e.to]);
+    const int earlier = later == e.from ? e.to : e.from;
+    const std::int64_t group =
+        (static_cast<std::int64_t>(chains.chain_of(later)) << 32) |
+        chains.chain_of(earlier);
+    const int c = clustering_.Add(loop, chains.position(later),
+                                  chains.position(earlier), group);
     this->cluster_of_loop_.push_back(c);
     if (c == static_cast<int>(records_.size())) {
       records_.emplace_back();
@@ -148,16 +166,19 @@ void MapVerifier<Pose>::Catch(int until) {
       records_[c].ready_pose = this->poses_at_arrival(loop) - 1;
     }
   }
-  scale_.RecordUntil(chain_.num_poses());
+  scale_.RecordUntil(std::min(until, graph.num_poses() - 1) + 1);
 }
 
 template <class Pose>
 int MapVerifier<Pose>::DecisionPose(int c, int newest, bool finish) const {
-  const PoseGraph<Pose>& graph = this->graph();
   int pose = records_[c].ready_pose;
   if (pose < 0) {
-    pose = graph.IndexOf(clustering_.clusters()[c].start_high) +
-           options_.cluster_window;
+    // `cluster_window` poses on along the chain of the later ends.
+    const Cluster& cluster = clustering_.clusters()[c];
+    const std::vector<int>& along = this->chains().poses(cluster.group >> 32);
+    const PoseId at = cluster.start_high + options_.cluster_window;
+    pose = at < static_cast<PoseId>(along.size()) ? along[at]
+                                                  : this->graph().num_poses();
   }
   if (options_.noise_scale == 0.0) {
     // With an estimated scale, decisions wait for enough loops to sample it.
@@ -189,6 +210,7 @@ std::vector<DecisionChange> MapVerifier<Pose>::Judge(bool finish) {
     decision_pose_ = newest;
     OptimizeMap();
     Arbitrate();
+    RefuseApart();
   }
   return PublishStates();
 }
@@ -215,6 +237,7 @@ void MapVerifier<Pose>::JudgeReady(int newest, bool finish) {
     clustering_.Close(c);
     decision_pose_ = pose;
     JudgeCluster(c);
+    if (records_[c].status == Status::kRefused) ReviseJoin(c);
     Arbitrate();
   }
 }
@@ -254,7 +277,8 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
       if (std::binary_search(record.accepted.begin(), record.accepted.end(),
                              loop)) {
         state = LoopState::kAccepted;
-      } else if (record.status != Status::kPending) {
+      } else if (record.status != Status::kPending &&
+                 reasons_[loop].test != DecisionTest::kJoin) {
         state = LoopState::kRejected;
       }
       this->SetState(this->candidate_of_loop(loop), state, &changes);
@@ -270,16 +294,21 @@ std::vector<DecisionChange> MapVerifier<Pose>::PublishStates() {
 
 template <class Pose>
 void MapVerifier<Pose>::Record(const std::vector<int>& links, DecisionTest test,
-                               double statistic) {
+                               double statistic, int free_frames) {
   if (links.empty()) return;
   const bool own = test == DecisionTest::kAlone ||
-                   test == DecisionTest::kOwnLink || test == DecisionTest::kOwn;
+                   test == DecisionTest::kOwnLink ||
+                   test == DecisionTest::kOwn || test == DecisionTest::kJoin;
+  const Against against = own ? Against::kOdometry : Against::kMap;
+  const size_t checked = links.size() - free_frames;
   DecisionReason reason;
   reason.test = test;
   reason.statistic = statistic;
-  reason.dof = Pose::kDof * static_cast<int>(links.size());
-  reason.gate = Gate(own ? Against::kOdometry : Against::kMap, links.size());
-  reason.scale = reason.gate / chi2_(reason.dof);
+  reason.dof = Pose::kDof * static_cast<int>(checked);
+  // No degree of freedom (one link between maps apart): no gate.
+  reason.gate = checked > 0 ? Gate(against, checked) : 0.0;
+  reason.scale = checked > 0 ? reason.gate / chi2_(reason.dof)
+                             : Gate(against, 1) / chi2_(Pose::kDof);
   reason.pose = decision_pose_;
   for (const int loop : links) reasons_[loop] = reason;
 }

@@ -13,7 +13,7 @@ namespace rrr {
 namespace {
 
 constexpr char kStateFamily[] = "rrr map procedure state, version ";
-constexpr char kStateFormat[] = "rrr map procedure state, version 9";
+constexpr char kStateFormat[] = "rrr map procedure state, version 10";
 
 // The options that the map procedure's decisions depend on, as bytes: a
 // state saved under others is not restored (those of the published
@@ -57,13 +57,13 @@ template <class Stream, class Self>
 void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
   io->Size(&self->records_, 2 * sizeof(std::int64_t), "cluster records");
   for (auto& r : self->records_) {
-    io->Field(&r.status, "a cluster's status", Status::kRefused);
+    io->Field(&r.status, "a cluster's status", Status::kHeld);
     io->Field(&r.ready_pose, "a cluster's ready pose");
   }
   io->Field(&self->alone_chi2_, "the loops' errors alone");
   io->Size(&self->reasons_, 7 * sizeof(double), "the decisions' reasons");
   for (auto& r : self->reasons_) {
-    io->Field(&r.test, "a decision's test", DecisionTest::kOutweighed);
+    io->Field(&r.test, "a decision's test", DecisionTest::kApart);
     io->Field(&r.statistic, "a decision's statistic");
     io->Field(&r.gate, "a decision's gate");
     io->Field(&r.scale, "a decision's scale");
@@ -78,7 +78,7 @@ void MapVerifier<Pose>::TransferState(Stream* io, Self* self) {
   auto& stats = self->stats_;
   for (auto* v : {&stats.own_solves, &stats.trials, &stats.quick_accepts,
                   &stats.reversals, &stats.rejudged, &stats.optimizations,
-                  &stats.not_converged}) {
+                  &stats.not_converged, &stats.joins, &stats.join_revisions}) {
     io->Field(v, "a statistic");
   }
 }
@@ -91,7 +91,6 @@ std::string MapVerifier<Pose>::SaveState() const {
   this->SaveRecord(&out);
   clustering_.Save(&out);
   TransferState(&out, this);
-  out.Int(chain_.num_poses());
   out.Int(map_ ? 1 : 0);
   if (map_) map_->Save(&out);
   scale_.Save(&out);
@@ -158,6 +157,23 @@ void MapVerifier<Pose>::CompleteRestored() {
       }
       if (map_ && map_->Contains(of[k])) r.accepted.push_back(of[k]);
     }
+    const auto [a, b] = ChainsOf(c);
+    within(std::min(a, b), 0, this->num_chains() - 1, "a cluster's chain");
+    within(std::max(a, b), 0, this->num_chains() - 1, "a cluster's chain");
+    if (r.status != Status::kPending && !map_) {
+      throw std::runtime_error("cluster " + std::to_string(c) +
+                               " was judged without a map");
+    }
+    if (r.status != Status::kPending) {
+      within(std::max(a, b), 0, map_->num_chains() - 1,
+             "the chain of a judged cluster");
+    }
+    if (r.status == Status::kHeld) {
+      if (map_->MapOf(a) == map_->MapOf(b)) {
+        throw std::runtime_error("cluster " + std::to_string(c) +
+                                 " waits for a join of chains in one map");
+      }
+    }
     if ((r.status == Status::kAccepted) == r.accepted.empty()) {
       throw std::runtime_error("cluster " + std::to_string(c) + " has " +
                                std::to_string(r.accepted.size()) +
@@ -183,19 +199,9 @@ void MapVerifier<Pose>::RestoreState(const std::string& state) {
   const PoseGraph<Pose>& graph = this->graph();
   clustering_.Restore(&in);
   TransferState(&in, this);
-  const std::int64_t chain_poses = in.Int("the chain's length");
-  if (chain_poses < 1 || chain_poses > graph.num_poses()) {
-    throw std::runtime_error(
-        "the state's chain has " + std::to_string(chain_poses) +
-        " poses, the graph " + std::to_string(graph.num_poses()));
-  }
-  for (int k = chain_.num_poses(); k < chain_poses; ++k) {
-    const auto& e = graph.odometry()[k - 1];
-    chain_.Append(e.measurement, e.information);
-  }
   if (in.Int("whether there is a map") != 0) {
     map_ = std::make_unique<MaintainedMap<Pose>>(
-        graph, chain_, options_.convergence, options_.map_junctions);
+        graph, this->chains(), options_.convergence, options_.map_junctions);
     map_->Restore(&in);
   }
   CompleteRestored();

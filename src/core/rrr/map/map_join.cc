@@ -1,0 +1,337 @@
+// MapVerifier: the join rule, which relates the maps of odometry chains that
+// loops between them may join (README, "Several odometry chains").
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include "rrr/geometry/pose2.h"
+#include "rrr/geometry/pose3.h"
+#include "rrr/rrr/map/map_verifier.h"
+#include "rrr/solver/edge_error.h"
+
+namespace rrr {
+namespace {
+
+// The frame in which map `moved`'s poses must be put (x ← frame · x) for
+// `loops` between it and another map to fit best, both maps held as
+// `estimate` has them: Gauss–Newton over the frame, from the frame that
+// makes the first loop hold exactly, while the error decreases.
+template <class Pose>
+Pose Placement(const PoseGraph<Pose>& graph, const std::vector<int>& loops,
+               const std::function<bool(int)>& in_moved,
+               const std::function<Pose(int)>& estimate) {
+  const auto moved = [&](int p, const Pose& frame) {
+    return in_moved(p) ? frame * estimate(p) : estimate(p);
+  };
+  const auto error = [&](const Pose& frame) {
+    double sum = 0.0;
+    for (const int k : loops) {
+      const Constraint<Pose>& e = graph.loops()[k];
+      const typename Pose::Tangent r =
+          EdgeResidual(e.measurement, moved(e.from, frame), moved(e.to, frame));
+      sum += r.dot(e.information * r);
+    }
+    return sum;
+  };
+  const Constraint<Pose>& first = graph.loops()[loops.front()];
+  Pose frame = in_moved(first.to)
+                   ? estimate(first.from) * first.measurement *
+                         estimate(first.to).inverse()
+                   : estimate(first.to) * first.measurement.inverse() *
+                         estimate(first.from).inverse();
+  double chi2 = error(frame);
+  const ConvergenceOptions convergence;
+  for (int it = 0; it < convergence.max_iterations; ++it) {
+    typename Pose::Jacobian h = Pose::Jacobian::Zero();
+    typename Pose::Tangent g = Pose::Tangent::Zero();
+    for (const int k : loops) {
+      const Constraint<Pose>& e = graph.loops()[k];
+      typename Pose::Jacobian ji, jj;
+      const typename Pose::Tangent r = EdgeResidualAndJacobians(
+          e.measurement, moved(e.from, frame), moved(e.to, frame), &ji, &jj);
+      // A moved pose p goes as frame·Exp(δ)·p = frame·p·Exp(Ad(p⁻¹)δ).
+      const bool to_moves = in_moved(e.to);
+      const Pose& p = estimate(to_moves ? e.to : e.from);
+      const typename Pose::Jacobian j =
+          (to_moves ? jj : ji) * p.inverse().Adjoint();
+      h += j.transpose() * e.information * j;
+      g += j.transpose() * e.information * r;
+    }
+    const Pose next = frame * Pose::Exp(-h.ldlt().solve(g));
+    const double next_chi2 = error(next);
+    if (!(next_chi2 < chi2)) break;
+    const bool small = chi2 - next_chi2 < convergence.relative_decrease * chi2;
+    frame = next;
+    chi2 = next_chi2;
+    if (small) break;
+  }
+  return frame;
+}
+
+}  // namespace
+
+template <class Pose>
+std::pair<int, int> MapVerifier<Pose>::ChainsOf(int c) const {
+  const std::int64_t group = clustering_.clusters()[c].group;
+  return {static_cast<int>(group >> 32), static_cast<int>(group & 0xffffffff)};
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::IsBetween(int c) const {
+  const auto [a, b] = ChainsOf(c);
+  return a != b;
+}
+
+template <class Pose>
+std::vector<int> MapVerifier<Pose>::OwnLinks(int c) const {
+  std::vector<int> own;
+  for (const int loop : clustering_.clusters()[c].loops) {
+    switch (reasons_[loop].test) {
+      case DecisionTest::kNotJudged:
+      case DecisionTest::kAlone:
+      case DecisionTest::kOwnLink:
+      case DecisionTest::kOwn:
+        break;
+      default:
+        own.push_back(loop);
+    }
+  }
+  return own;
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::Agree(int a, int b) {
+  const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
+  const auto known = agree_.find(key);
+  if (known != agree_.end()) return known->second;
+  const bool agree = Agree(std::vector<int>{a}, std::vector<int>{b});
+  agree_.emplace(key, agree);
+  return agree;
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::Adjacent(int a, int b) const {
+  const Cluster& x = clustering_.clusters()[a];
+  const Cluster& y = clustering_.clusters()[b];
+  // Ranges closer than a window at both ends (as the clustering joins a
+  // loop to a cluster): one revisit that the clustering cut.
+  const auto near = [&](PoseId low1, PoseId high1, PoseId low2, PoseId high2) {
+    return std::max(low1, low2) - std::min(high1, high2) <
+           options_.cluster_window;
+  };
+  return x.group == y.group &&
+         near(x.start_low, x.start_high, y.start_low, y.start_high) &&
+         near(x.end_low, x.end_high, y.end_low, y.end_high);
+}
+
+template <class Pose>
+std::vector<std::pair<int, std::vector<int>>> MapVerifier<Pose>::Revisits(
+    const std::vector<int>& clusters) {
+  // Union by the lower index (clusters ascend): each revisit under its first.
+  std::vector<size_t> root(clusters.size());
+  std::iota(root.begin(), root.end(), 0);
+  const auto find = [&](size_t i) {
+    while (root[i] != i) i = root[i];
+    return i;
+  };
+  for (size_t i = 0; i < clusters.size(); ++i) {
+    for (size_t j = i + 1; j < clusters.size(); ++j) {
+      if (find(i) != find(j) && Adjacent(clusters[i], clusters[j]) &&
+          Agree(clusters[i], clusters[j])) {
+        root[find(j)] = find(i);
+      }
+    }
+  }
+  std::vector<std::pair<int, std::vector<int>>> revisits;
+  std::vector<int> revisit_of(clusters.size(), -1);
+  for (size_t i = 0; i < clusters.size(); ++i) {
+    int& r = revisit_of[find(i)];
+    if (r < 0) {
+      r = static_cast<int>(revisits.size());
+      revisits.emplace_back(-1, std::vector<int>());
+    }
+    revisits[r].first += static_cast<int>(OwnLinks(clusters[i]).size());
+    revisits[r].second.push_back(clusters[i]);
+  }
+  std::stable_sort(
+      revisits.begin(), revisits.end(),
+      [](const auto& x, const auto& y) { return x.first > y.first; });
+  return revisits;
+}
+
+template <class Pose>
+bool MapVerifier<Pose>::Agree(const std::vector<int>& a,
+                              const std::vector<int>& b) {
+  std::vector<int> links;
+  for (const std::vector<int>* set : {&a, &b}) {
+    for (const int c : *set) {
+      const std::vector<int> own = OwnLinks(c);
+      links.insert(links.end(), own.begin(), own.end());
+    }
+  }
+  return Passes(Test(links, Against::kOdometry), Against::kOdometry);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::Hold(int c, const std::vector<int>& links) {
+  records_[c].status = Status::kHeld;
+  records_[c].accepted.clear();
+  const MapTrial own = Test(links, Against::kOdometry);
+  Record(links, DecisionTest::kJoin, own.increase, own.free_frames);
+  touched_.push_back(c);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::JudgeJoin(int a, int b) {
+  if (map_->MapOf(a) == map_->MapOf(b)) return;
+  std::vector<int> held;
+  for (size_t c = 0; c < records_.size(); ++c) {
+    const auto [x, y] = ChainsOf(static_cast<int>(c));
+    if (records_[c].status == Status::kHeld &&
+        std::minmax(x, y) == std::minmax(a, b)) {
+      held.push_back(static_cast<int>(c));
+    }
+  }
+  if (held.empty()) return;
+  const auto revisits = Revisits(held);
+  // The strongest revisit joins the maps if it has more evidence than all
+  // the revisits that contradict it together, one link's check at least.
+  const auto& [evidence, best] = revisits.front();
+  if (evidence < 1) return;
+  int against = 0;
+  for (size_t r = 1; r < revisits.size() && against < evidence; ++r) {
+    if (revisits[r].first > 0 && !Agree(best, revisits[r].second)) {
+      against += revisits[r].first;
+    }
+  }
+  if (against >= evidence) return;
+  Join(best);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::Join(const std::vector<int>& set) {
+  ++stats_.joins;
+  const ChainOdometry<Pose>& chains = this->chains();
+  const auto [a, b] = ChainsOf(set.front());
+  const int moved = std::max(map_->MapOf(a), map_->MapOf(b));
+  std::vector<std::pair<int, std::vector<int>>> own;  // (cluster, own links)
+  std::vector<int> links;
+  for (const int c : set) {
+    own.emplace_back(c, OwnLinks(c));
+    links.insert(links.end(), own.back().second.begin(),
+                 own.back().second.end());
+  }
+  map_->Move(moved, Placement<Pose>(
+                        this->graph(), links,
+                        [&](int p) {
+                          return map_->MapOf(chains.chain_of(p)) == moved;
+                        },
+                        [&](int p) { return map_->Estimate(p); }));
+  std::stable_sort(own.begin(), own.end(), [](const auto& x, const auto& y) {
+    return x.second.size() > y.second.size();
+  });
+  for (auto& [c, of] : own) {
+    records_[c].status = Status::kRefused;
+    JudgeAgainstMap(c, std::move(of));
+  }
+  // The clusters held between maps that are one now.
+  for (size_t c = 0; c < records_.size(); ++c) {
+    const auto [x, y] = ChainsOf(static_cast<int>(c));
+    if (records_[c].status != Status::kHeld ||
+        map_->MapOf(x) != map_->MapOf(y)) {
+      continue;
+    }
+    records_[c].status = Status::kRefused;
+    JudgeAgainstMap(static_cast<int>(c), OwnLinks(static_cast<int>(c)));
+  }
+  arbiter_due_ = true;
+}
+
+template <class Pose>
+void MapVerifier<Pose>::ReviseJoin(int c) {
+  const auto [a, b] = ChainsOf(c);
+  if (a == b || map_->MapOf(a) != map_->MapOf(b) ||
+      map_->MapOfWithout(a, a, b) == map_->MapOfWithout(b, a, b) ||
+      OwnLinks(c).empty()) {
+    return;
+  }
+  // The join: every link between the two chains in the map, which agree
+  // through it. Its rivals: the refused clusters between them.
+  std::vector<int> joined, refused;
+  int joined_links = 0;
+  for (size_t r = 0; r < records_.size(); ++r) {
+    const auto [x, y] = ChainsOf(static_cast<int>(r));
+    if (std::minmax(x, y) != std::minmax(a, b)) continue;
+    if (records_[r].status == Status::kAccepted) {
+      joined.push_back(static_cast<int>(r));
+      joined_links += static_cast<int>(records_[r].accepted.size());
+    } else if (records_[r].status == Status::kRefused &&
+               !OwnLinks(static_cast<int>(r)).empty()) {
+      refused.push_back(static_cast<int>(r));
+    }
+  }
+  // Refused against the map, they contradict the join.
+  int rival = 0;
+  for (const auto& [evidence, revisit] : Revisits(refused)) {
+    rival += std::max(evidence, 0);
+  }
+  if (rival < joined_links - 1) return;
+  ++stats_.join_revisions;
+  // Apart again, every cluster between them waits for the join rule.
+  for (const int r : joined) {
+    LeaveMap(r);
+    refused.push_back(r);
+  }
+  for (const int r : refused) Hold(r, OwnLinks(r));
+  JudgeJoin(a, b);
+}
+
+template <class Pose>
+void MapVerifier<Pose>::RefuseApart() {
+  std::map<std::pair<int, int>, std::vector<int>> held;  // by pair of chains
+  for (size_t c = 0; c < records_.size(); ++c) {
+    if (records_[c].status != Status::kHeld) continue;
+    const auto [x, y] = ChainsOf(static_cast<int>(c));
+    held[std::minmax(x, y)].push_back(static_cast<int>(c));
+  }
+  for (const auto& [pair, clusters] : held) {
+    const auto revisits = Revisits(clusters);
+    int total = 0;
+    for (const auto& revisit : revisits) total += std::max(revisit.first, 0);
+    for (const auto& [evidence, revisit] : revisits) {
+      for (const int c : revisit) {
+        const std::vector<int> links = OwnLinks(c);
+        Record(links, DecisionTest::kApart, evidence);
+        for (const int loop : links) {
+          reasons_[loop].gate = std::max(total - std::max(evidence, 0), 1);
+        }
+        records_[c].status = Status::kRefused;
+        touched_.push_back(c);
+      }
+    }
+  }
+}
+
+#define RRR_INSTANTIATE_JOIN(Pose)                                     \
+  template std::pair<int, int> MapVerifier<Pose>::ChainsOf(int) const; \
+  template bool MapVerifier<Pose>::IsBetween(int) const;               \
+  template std::vector<int> MapVerifier<Pose>::OwnLinks(int) const;    \
+  template bool MapVerifier<Pose>::Agree(int, int);                    \
+  template bool MapVerifier<Pose>::Adjacent(int, int) const;           \
+  template std::vector<std::pair<int, std::vector<int>>>               \
+  MapVerifier<Pose>::Revisits(const std::vector<int>&);                \
+  template bool MapVerifier<Pose>::Agree(const std::vector<int>&,      \
+                                         const std::vector<int>&);     \
+  template void MapVerifier<Pose>::Hold(int, const std::vector<int>&); \
+  template void MapVerifier<Pose>::JudgeJoin(int, int);                \
+  template void MapVerifier<Pose>::Join(const std::vector<int>&);      \
+  template void MapVerifier<Pose>::ReviseJoin(int);                    \
+  template void MapVerifier<Pose>::RefuseApart();
+RRR_INSTANTIATE_JOIN(Pose2)
+RRR_INSTANTIATE_JOIN(Pose3)
+#undef RRR_INSTANTIATE_JOIN
+
+}  // namespace rrr
