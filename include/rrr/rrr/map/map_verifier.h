@@ -235,6 +235,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   bool Agree(const std::vector<int>& a, const std::vector<int>& b);
   // Agree of two clusters, kept until either is judged again.
   bool Agree(int a, int b);
+  // Drops the kept answers of Agree that involve cluster `c`, whose links
+  // change.
+  void Forget(int c);
   // Whether clusters `a` and `b` of the same group have ranges closer than
   // a window at both ends: pieces of one revisit, as the clustering cut it.
   bool Adjacent(int a, int b) const;
@@ -243,6 +246,18 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // most first.
   std::vector<std::pair<int, std::vector<int>>> Revisits(
       const std::vector<int>& clusters);
+  // The join rule's weighing of `clusters` between two chains: their
+  // strongest revisit, its evidence, and the evidence of the revisits that
+  // contradict it together (counted until it reaches the strongest's).
+  struct Weighed {
+    int evidence = 0;
+    std::vector<int> revisit;
+    int against = 0;
+    // It joins two maps: more evidence than its contradictors together,
+    // one link's check at least.
+    bool Joins() const { return evidence >= 1 && against < evidence; }
+  };
+  Weighed Weigh(const std::vector<int>& clusters);
   // Holds `links` of `c`, between two maps, for the join rule (kJoin).
   void Hold(int c, const std::vector<int>& links);
   // The join rule for the maps of chains `a` and `b`, not joined: the held
@@ -254,9 +269,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // are in one map now.
   void Join(const std::vector<int>& set);
   // After cluster `c` between chains in one map was refused against it: if
-  // the loops between its chains are all that ties their maps, and a set of
-  // refused clusters between them that agree (c's) has more evidence than
-  // those loops, they leave the map and the join rule judges again.
+  // the loops between its chains are all that ties their maps, the join is
+  // weighed again with the refused clusters (Weigh); unless its revisit is
+  // still the strongest and still joins, the loops between the chains leave
+  // the map and the join rule judges every cluster between them again.
   void ReviseJoin(int c);
   // Refuses every held cluster (kApart), at Finish().
   void RefuseApart();
@@ -280,9 +296,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::vector<int> touched_;             // clusters whose decisions changed
   std::unique_ptr<MaintainedMap<Pose>> map_;
   int chains_caught_ = 0;  // chains the map has taken in
-  // Agree's answers by pair of clusters (lower first), until either is
-  // judged again.
+  // Agree's answers by pair of clusters (lower first), and by pair of sets
+  // of clusters, until one of their clusters is judged again.
   std::map<std::pair<int, int>, bool> agree_;
+  std::map<std::pair<std::vector<int>, std::vector<int>>, bool> agree_sets_;
   NoiseScaleEstimate scale_;
   int decision_pose_ = 0;  // of the decision being made
   int judged_until_ = -1;  // the clusters ready up to this pose are judged

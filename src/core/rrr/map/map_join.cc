@@ -103,6 +103,20 @@ std::vector<int> MapVerifier<Pose>::OwnLinks(int c) const {
 }
 
 template <class Pose>
+void MapVerifier<Pose>::Forget(int c) {
+  for (auto it = agree_.begin(); it != agree_.end();) {
+    it = it->first.first == c || it->first.second == c ? agree_.erase(it)
+                                                       : std::next(it);
+  }
+  for (auto it = agree_sets_.begin(); it != agree_sets_.end();) {
+    const auto& [x, y] = it->first;
+    it = std::count(x.begin(), x.end(), c) + std::count(y.begin(), y.end(), c)
+             ? agree_sets_.erase(it)
+             : std::next(it);
+  }
+}
+
+template <class Pose>
 bool MapVerifier<Pose>::Agree(int a, int b) {
   const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
   const auto known = agree_.find(key);
@@ -165,6 +179,9 @@ std::vector<std::pair<int, std::vector<int>>> MapVerifier<Pose>::Revisits(
 template <class Pose>
 bool MapVerifier<Pose>::Agree(const std::vector<int>& a,
                               const std::vector<int>& b) {
+  const auto key = std::minmax(a, b);
+  const auto known = agree_sets_.find(key);
+  if (known != agree_sets_.end()) return known->second;
   std::vector<int> links;
   for (const std::vector<int>* set : {&a, &b}) {
     for (const int c : *set) {
@@ -172,7 +189,26 @@ bool MapVerifier<Pose>::Agree(const std::vector<int>& a,
       links.insert(links.end(), own.begin(), own.end());
     }
   }
-  return Passes(Test(links, Against::kOdometry), Against::kOdometry);
+  const bool agree =
+      Passes(Test(links, Against::kOdometry), Against::kOdometry);
+  agree_sets_.emplace(std::make_pair(key.first, key.second), agree);
+  return agree;
+}
+
+template <class Pose>
+typename MapVerifier<Pose>::Weighed MapVerifier<Pose>::Weigh(
+    const std::vector<int>& clusters) {
+  Weighed w;
+  if (clusters.empty()) return w;
+  const auto revisits = Revisits(clusters);
+  w.evidence = revisits.front().first;
+  w.revisit = revisits.front().second;
+  for (size_t r = 1; r < revisits.size() && w.against < w.evidence; ++r) {
+    if (revisits[r].first > 0 && !Agree(w.revisit, revisits[r].second)) {
+      w.against += revisits[r].first;
+    }
+  }
+  return w;
 }
 
 template <class Pose>
@@ -195,20 +231,8 @@ void MapVerifier<Pose>::JudgeJoin(int a, int b) {
       held.push_back(static_cast<int>(c));
     }
   }
-  if (held.empty()) return;
-  const auto revisits = Revisits(held);
-  // The strongest revisit joins the maps if it has more evidence than all
-  // the revisits that contradict it together, one link's check at least.
-  const auto& [evidence, best] = revisits.front();
-  if (evidence < 1) return;
-  int against = 0;
-  for (size_t r = 1; r < revisits.size() && against < evidence; ++r) {
-    if (revisits[r].first > 0 && !Agree(best, revisits[r].second)) {
-      against += revisits[r].first;
-    }
-  }
-  if (against >= evidence) return;
-  Join(best);
+  const Weighed weighed = Weigh(held);
+  if (weighed.Joins()) Join(weighed.revisit);
 }
 
 template <class Pose>
@@ -258,34 +282,33 @@ void MapVerifier<Pose>::ReviseJoin(int c) {
       OwnLinks(c).empty()) {
     return;
   }
-  // The join: every link between the two chains in the map, which agree
-  // through it. Its rivals: the refused clusters between them.
-  std::vector<int> joined, refused;
-  int joined_links = 0;
+  // The join weighed again with its rivals, the clusters refused against
+  // the map it made (JudgeJoin's weighing, as if they were apart): it stands
+  // if the strongest revisit is still one it holds and still has more
+  // evidence than those that contradict it.
+  std::vector<int> between;
   for (size_t r = 0; r < records_.size(); ++r) {
     const auto [x, y] = ChainsOf(static_cast<int>(r));
-    if (std::minmax(x, y) != std::minmax(a, b)) continue;
-    if (records_[r].status == Status::kAccepted) {
-      joined.push_back(static_cast<int>(r));
-      joined_links += static_cast<int>(records_[r].accepted.size());
-    } else if (records_[r].status == Status::kRefused &&
-               !OwnLinks(static_cast<int>(r)).empty()) {
-      refused.push_back(static_cast<int>(r));
+    if (std::minmax(x, y) == std::minmax(a, b) &&
+        (records_[r].status == Status::kAccepted ||
+         (records_[r].status == Status::kRefused &&
+          !OwnLinks(static_cast<int>(r)).empty()))) {
+      between.push_back(static_cast<int>(r));
     }
   }
-  // Refused against the map, they contradict the join.
-  int rival = 0;
-  for (const auto& [evidence, revisit] : Revisits(refused)) {
-    rival += std::max(evidence, 0);
+  const Weighed weighed = Weigh(between);
+  if (weighed.Joins() &&
+      std::any_of(weighed.revisit.begin(), weighed.revisit.end(), [&](int r) {
+        return records_[r].status == Status::kAccepted;
+      })) {
+    return;
   }
-  if (rival < joined_links - 1) return;
   ++stats_.join_revisions;
   // Apart again, every cluster between them waits for the join rule.
-  for (const int r : joined) {
-    LeaveMap(r);
-    refused.push_back(r);
+  for (const int r : between) {
+    if (records_[r].status == Status::kAccepted) LeaveMap(r);
   }
-  for (const int r : refused) Hold(r, OwnLinks(r));
+  for (const int r : between) Hold(r, OwnLinks(r));
   JudgeJoin(a, b);
 }
 
@@ -315,20 +338,23 @@ void MapVerifier<Pose>::RefuseApart() {
   }
 }
 
-#define RRR_INSTANTIATE_JOIN(Pose)                                     \
-  template std::pair<int, int> MapVerifier<Pose>::ChainsOf(int) const; \
-  template bool MapVerifier<Pose>::IsBetween(int) const;               \
-  template std::vector<int> MapVerifier<Pose>::OwnLinks(int) const;    \
-  template bool MapVerifier<Pose>::Agree(int, int);                    \
-  template bool MapVerifier<Pose>::Adjacent(int, int) const;           \
-  template std::vector<std::pair<int, std::vector<int>>>               \
-  MapVerifier<Pose>::Revisits(const std::vector<int>&);                \
-  template bool MapVerifier<Pose>::Agree(const std::vector<int>&,      \
-                                         const std::vector<int>&);     \
-  template void MapVerifier<Pose>::Hold(int, const std::vector<int>&); \
-  template void MapVerifier<Pose>::JudgeJoin(int, int);                \
-  template void MapVerifier<Pose>::Join(const std::vector<int>&);      \
-  template void MapVerifier<Pose>::ReviseJoin(int);                    \
+#define RRR_INSTANTIATE_JOIN(Pose)                                       \
+  template std::pair<int, int> MapVerifier<Pose>::ChainsOf(int) const;   \
+  template bool MapVerifier<Pose>::IsBetween(int) const;                 \
+  template std::vector<int> MapVerifier<Pose>::OwnLinks(int) const;      \
+  template bool MapVerifier<Pose>::Agree(int, int);                      \
+  template void MapVerifier<Pose>::Forget(int);                          \
+  template typename MapVerifier<Pose>::Weighed MapVerifier<Pose>::Weigh( \
+      const std::vector<int>&);                                          \
+  template bool MapVerifier<Pose>::Adjacent(int, int) const;             \
+  template std::vector<std::pair<int, std::vector<int>>>                 \
+  MapVerifier<Pose>::Revisits(const std::vector<int>&);                  \
+  template bool MapVerifier<Pose>::Agree(const std::vector<int>&,        \
+                                         const std::vector<int>&);       \
+  template void MapVerifier<Pose>::Hold(int, const std::vector<int>&);   \
+  template void MapVerifier<Pose>::JudgeJoin(int, int);                  \
+  template void MapVerifier<Pose>::Join(const std::vector<int>&);        \
+  template void MapVerifier<Pose>::ReviseJoin(int);                      \
   template void MapVerifier<Pose>::RefuseApart();
 RRR_INSTANTIATE_JOIN(Pose2)
 RRR_INSTANTIATE_JOIN(Pose3)

@@ -98,10 +98,7 @@ void MapVerifier<Pose>::JudgeCluster(int c) {
   record.status = Status::kRefused;
   record.accepted.clear();
   touched_.push_back(c);
-  for (auto it = agree_.begin(); it != agree_.end();) {
-    it = it->first.first == c || it->first.second == c ? agree_.erase(it)
-                                                       : std::next(it);
-  }
+  Forget(c);
   // Between two maps that no join relates, the map cannot decide between
   // groups: the first that agrees waits for the join rule.
   const auto [a, b] = ChainsOf(c);

@@ -324,6 +324,7 @@ void MapVerifier<Pose>::Accept(int c, const std::vector<int>& links,
   }
   record.status = Status::kAccepted;
   record.accepted = links;
+  Forget(c);
   std::sort(record.accepted.begin(), record.accepted.end());
   Record(links, DecisionTest::kMap, statistic);
   scale_.SetClusterSample(c, statistic, static_cast<int>(links.size()));
