@@ -38,6 +38,13 @@ void AddSimulateCommand(CLI::App& app) {
                   "robots that drive the path in turn, each its own odometry "
                   "chain from the identity, keyed as GTSAM symbols a, b, ...")
       ->capture_default_str();
+  cmd->add_option("--loop-probability", options->loop_probability,
+                  "chance that a revisit yields a true loop candidate")
+      ->capture_default_str();
+  cmd->add_option("--loops-per-revisit", options->loops_per_revisit,
+                  "earlier visits of the place a revisit is matched with, the "
+                  "latest first (each a candidate with that chance)")
+      ->capture_default_str();
   cmd->add_option("--seed", options->seed, "random seed")
       ->capture_default_str();
   cmd->add_option("-o,--output", *output, "g2o output")->required();

@@ -42,6 +42,9 @@ struct WorldOptions {
   // yields a (true) loop candidate, and the noise of its measurement.
   double loop_probability = 0.5;
   int min_gap = 30;
+  // A revisit is matched with up to this many earlier visits of the place
+  // (the latest first), each a candidate with loop_probability.
+  int loops_per_revisit = 1;
   // False loops, drawn as `rrr spoil` draws them (each wrong at the true
   // poses), in groups of `group`.
   int false_loops = 40;

@@ -212,6 +212,8 @@ class MaintainedMap {
   std::vector<int> map_of_;  // by chain
   // Minimize's local index of each pose of its problem, -1 for the others.
   std::vector<int> local_;
+  // Region's poses reached so far, all false between calls.
+  mutable std::vector<bool> reached_;
   int num_loops_ = 0;
 };
 

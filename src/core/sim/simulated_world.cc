@@ -97,6 +97,7 @@ std::string WorldOptions::Validate() const {
     return "loop_probability must be in [0, 1]";
   }
   if (min_gap < 2) return "min_gap must be at least 2";
+  if (loops_per_revisit < 1) return "loops_per_revisit must be at least 1";
   if (false_loops < 0 || group < 1)
     return "false loops must be >= 0, group >= 1";
   if (robots < 1 || robots > 26 || poses / robots < 100) {
@@ -114,7 +115,8 @@ SimulatedWorld SimulateWorld(const WorldOptions& options) {
 
   // The true path. A revisit of a place seen at least min_gap poses
   // before, with the same heading (a loop detector matches views), yields a
-  // true loop candidate with loop_probability.
+  // true loop candidate with loop_probability, with each of up to
+  // loops_per_revisit such visits, the latest first.
   SimulatedWorld world;
   Driver driver(options, &rng);
   world.truth.push_back(Pose2(0, 0, 0));
@@ -124,13 +126,14 @@ SimulatedWorld SimulateWorld(const WorldOptions& options) {
     const auto [pose, place] = driver.Step(k);
     world.truth.push_back(pose);
     auto& seen = visits[place];
-    for (auto it = seen.rbegin(); it != seen.rend(); ++it) {
-      if (k - *it >= options.min_gap) {
-        if (std::abs(world.truth[*it].between(world.truth[k]).theta()) < 0.1 &&
-            uniform(rng) < options.loop_probability) {
-          revisits.emplace_back(*it, k);
-        }
-        break;
+    int matched = 0;
+    for (auto it = seen.rbegin();
+         it != seen.rend() && matched < options.loops_per_revisit; ++it) {
+      if (k - *it < options.min_gap) continue;
+      ++matched;
+      if (std::abs(world.truth[*it].between(world.truth[k]).theta()) < 0.1 &&
+          uniform(rng) < options.loop_probability) {
+        revisits.emplace_back(*it, k);
       }
     }
     seen.push_back(k);

@@ -166,11 +166,13 @@ void MaintainedMap<Pose>::Release(int pose) {
 template <class Pose>
 std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
                                              int radius) const {
-  std::vector<bool> reached(graph_.num_poses(), false);
+  if (reached_.size() < static_cast<size_t>(graph_.num_poses())) {
+    reached_.resize(graph_.num_poses(), false);
+  }
   std::vector<Key> region;
   const auto visit = [&](int pose, std::vector<int>* frontier) {
-    if (reached[pose]) return;
-    reached[pose] = true;
+    if (reached_[pose]) return;
+    reached_[pose] = true;
     region.push_back(chains_.Key(pose));
     frontier->push_back(pose);
   };
@@ -201,6 +203,7 @@ std::vector<int> MaintainedMap<Pose>::Region(const std::vector<int>& seeds,
   std::vector<int> poses(region.size());
   for (size_t k = 0; k < region.size(); ++k) {
     poses[k] = chains_.PoseOfKey(region[k]);
+    reached_[poses[k]] = false;
   }
   return poses;
 }
