@@ -60,14 +60,16 @@ def moved_vertex(fields, k):
     return " ".join([fields[0], fields[1], *(f"{v:.9g}" for v in values)]) + "\n"
 
 
-def cut(src, dst, chains):
-    """Writes `src` cut into `chains` chains of equal length to `dst`; returns
-    the ids of each chain's first pose."""
+def cut(src, dst, chains, firsts=None):
+    """Writes `src` cut into `chains` chains of equal length (or chains that
+    start at the ids `firsts`, the first the graph's) to `dst`; returns the
+    ids of each chain's first pose."""
     lines = open(src).read().splitlines(keepends=True)
     ids = sorted(int(l.split()[1]) for l in lines if l.startswith("VERTEX"))
     if not ids:  # edges only: the poses are the edges' ends
         ids = sorted({int(f) for l in lines if l.startswith("EDGE") for f in l.split()[1:3]})
-    firsts = [ids[len(ids) * k // chains] for k in range(chains)]
+    if firsts is None:
+        firsts = [ids[len(ids) * k // chains] for k in range(chains)]
 
     def chain_of(i):
         return sum(1 for f in firsts if i >= f) - 1

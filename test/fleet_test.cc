@@ -141,12 +141,14 @@ TEST(Fleet, EveryCandidateIsJudgedAsTheRecordedInputsReplayedAreJudged) {
   rrr::FleetOptions options;
   options.rrr.cluster_window = window;
   options.restart_jump = 5.0;
-  rrr::FleetSession<rrr::Pose2> replay(robots, options, database + ".copy");
-  {
-    std::ifstream from(database, std::ios::binary);
-    std::ofstream to(database + ".copy", std::ios::binary);
+  // A copy of the database with its write-ahead log (the node holds it).
+  for (const std::string part : {"", "-wal", "-shm"}) {
+    std::ifstream from(database + part, std::ios::binary);
+    if (!from) continue;
+    std::ofstream to(database + ".copy" + part, std::ios::binary);
     to << from.rdbuf();
   }
+  rrr::FleetSession<rrr::Pose2> replay(robots, options, database + ".copy");
   replay.Resume();
   const auto& fleet = replay.fleet();
   ASSERT_EQ(fleet.verifier().num_candidates(),
@@ -156,7 +158,9 @@ TEST(Fleet, EveryCandidateIsJudgedAsTheRecordedInputsReplayedAreJudged) {
               d.state == rrr_slam::LoopDecision::ACCEPTED)
         << "candidate " << d.candidate;
   }
-  std::remove((database + ".copy").c_str());
+  for (const std::string part : {"", "-wal", "-shm"}) {
+    std::remove((database + ".copy" + part).c_str());
+  }
   // A session per robot, and one more for the robot that restarted: no
   // odometry edge joins its two sessions. One map, no false loop in it,
   // most true loops.

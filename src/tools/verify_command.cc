@@ -128,7 +128,7 @@ nlohmann::json ChainsJson(const PoseGraph<Pose>& graph,
   return {{"chains", list}, {"chain_pairs", pairs}, {"maps", maps}};
 }
 
-// The chains of `graph` (several) as the map procedure left them: a pair is
+// The chains of `graph` as the map procedure left them: a pair is
 // joined where a loop between it was accepted; `maintained` has every pose
 // in its map's frame, each chain's own frame being that of its first pose's
 // estimate in the graph. The maps are then minimized (MinimizeMaps).
@@ -206,14 +206,10 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
     std::vector<Pose> maintained;
     verdict = VerifyWithMap(graph, args.options, &maintained, &stats,
                             ArrivalOrder(graph, robots));
-    if (ChainSpansOf(graph).size() > 1) {
-      ChainMaps<Pose> chains = MapsOfChains(graph, verdict, maintained);
-      chains_report = ChainsJson(graph, chains);
-      map = std::move(chains.estimates);
-      final_map = chains.minimized.front();
-    } else {
-      map = solver.Optimize(verdict.accepted, {}, &final_map, &maintained);
-    }
+    ChainMaps<Pose> chains = MapsOfChains(graph, verdict, maintained);
+    if (chains.chains.size() > 1) chains_report = ChainsJson(graph, chains);
+    map = std::move(chains.estimates);
+    final_map = chains.minimized.front();
   } else {
     ProgressBar bar("rrr: clusters", true);
     verdict =

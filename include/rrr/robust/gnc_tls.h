@@ -16,7 +16,9 @@ namespace rrr {
 // surrogate (μ small) towards the truncated cost, μ growing by `mu_factor`
 // after each Gauss–Newton step; odometry is always an inlier. The truncation
 // c̄² = χ²(`inlier_probability`, e) applies to a loop's d²_l (0.99, GTSAM's
-// GNC default). A loop is accepted when its final weight exceeds 0.5.
+// GNC default). A loop is accepted when its final weight exceeds 0.5. One
+// odometry chain starts from its odometry; several from the chordal start
+// of every edge (ChordalInitialization), which places each chain.
 struct GncTlsOptions {
   double inlier_probability = 0.99;
   double mu_factor = 1.4;

@@ -27,15 +27,16 @@ struct ReweightedResult {
   MinimizeResult minimize;
 };
 
-// Starting from the odometry with every weight 1, alternates one
-// Levenberg–Marquardt iteration on odometry plus the weighted loops (the
-// first pose held; the damping carried over) with `reweigh`, until the
-// weights settle and the error stops decreasing, or `options.max_iterations`
-// iterations.
+// Starting from `start` (the odometry if empty) with every weight 1,
+// alternates one Levenberg–Marquardt iteration on odometry plus the
+// weighted loops (the first pose held; the damping carried over) with
+// `reweigh`, until the weights settle and the error stops decreasing, or
+// `options.max_iterations` iterations.
 template <class Pose>
 ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
                                        const Reweigh& reweigh,
-                                       const ConvergenceOptions& options);
+                                       const ConvergenceOptions& options,
+                                       std::vector<Pose> start = {});
 
 }  // namespace rrr
 

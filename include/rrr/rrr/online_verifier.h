@@ -213,8 +213,10 @@ class OnlineVerifier {
 
 // The order in which the poses of `graph` arrive: the graph's order (its
 // chains one after another, as the sessions of one robot), or with
-// `side_by_side` one pose of each chain in turn (ChainSpansOf), as robots
-// that move at once.
+// `side_by_side` as robots that move at once: each pose at its robot's time,
+// its index below the robot's letter where ids are GTSAM symbols (AsSymbol:
+// a robot's sessions come one after another), else its place in its chain
+// (ChainSpansOf); poses of the same time in chain order.
 template <class Pose>
 std::vector<int> ArrivalOrder(const PoseGraph<Pose>& graph, bool side_by_side);
 

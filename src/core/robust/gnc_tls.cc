@@ -5,8 +5,11 @@
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/graph/chain_spans.h"
+#include "rrr/io/g2o.h"
 #include "rrr/robust/reweighted_solve.h"
 #include "rrr/rrr/chi_square.h"
+#include "rrr/solver/chordal_initialization.h"
 
 namespace rrr {
 
@@ -40,8 +43,14 @@ Verdict VerifyWithGncTls(const PoseGraph<Pose>& graph,
     mu *= options.mu_factor;
     return binary && mu > 1e4;
   };
+  // Several chains start from the chordal start (each chain placed by every
+  // loop), as nothing else relates their frames; one chain from odometry.
+  std::vector<Pose> start;
+  if (ChainSpansOf(graph).size() > 1) {
+    start = ChordalInitialization(graph, AllLoops(graph));
+  }
   const ReweightedResult<Pose> result = ReweightedSolve(
-      graph, reweigh, ConvergenceOptions{options.max_iterations, 1e-9});
+      graph, reweigh, ConvergenceOptions{options.max_iterations, 1e-9}, start);
   std::vector<bool> accepted(graph.loops().size());
   for (size_t k = 0; k < accepted.size(); ++k) {
     accepted[k] = result.weights[k] > 0.5;

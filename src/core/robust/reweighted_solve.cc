@@ -1,5 +1,7 @@
 #include "rrr/robust/reweighted_solve.h"
 
+#include <utility>
+
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/solver/edge_error.h"
@@ -10,9 +12,10 @@ namespace rrr {
 template <class Pose>
 ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
                                        const Reweigh& reweigh,
-                                       const ConvergenceOptions& options) {
+                                       const ConvergenceOptions& options,
+                                       std::vector<Pose> start) {
   ReweightedResult<Pose> result;
-  result.estimate = graph.ComposeOdometry();
+  result.estimate = start.empty() ? graph.ComposeOdometry() : std::move(start);
   const size_t odometry = graph.odometry().size();
   const size_t loops = graph.loops().size();
   std::vector<const Constraint<Pose>*> edges;
@@ -58,9 +61,11 @@ ReweightedResult<Pose> ReweightedSolve(const PoseGraph<Pose>& graph,
 
 template ReweightedResult<Pose2> ReweightedSolve(const PoseGraph<Pose2>&,
                                                  const Reweigh&,
-                                                 const ConvergenceOptions&);
+                                                 const ConvergenceOptions&,
+                                                 std::vector<Pose2>);
 template ReweightedResult<Pose3> ReweightedSolve(const PoseGraph<Pose3>&,
                                                  const Reweigh&,
-                                                 const ConvergenceOptions&);
+                                                 const ConvergenceOptions&,
+                                                 std::vector<Pose3>);
 
 }  // namespace rrr

@@ -5,11 +5,13 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/chain_spans.h"
 #include "rrr/graph/odometry_chain.h"
+#include "rrr/io/symbol_key.h"
 
 namespace rrr {
 
@@ -275,13 +277,19 @@ std::vector<int> ArrivalOrder(const PoseGraph<Pose>& graph, bool side_by_side) {
   std::vector<int> order(graph.num_poses());
   std::iota(order.begin(), order.end(), 0);
   if (!side_by_side) return order;
+  // Each pose at its robot's time: its index below the robot's letter (a
+  // robot's sessions one after another), else its place in its chain.
   const std::vector<ChainSpan> spans = ChainSpansOf(graph);
-  order.clear();
-  for (int k = 0; order.size() < static_cast<size_t>(graph.num_poses()); ++k) {
-    for (const ChainSpan& span : spans) {
-      if (k < span.size()) order.push_back(span.first + k);
-    }
+  std::vector<std::pair<std::int64_t, int>> time(graph.num_poses());
+  for (int p = 0; p < graph.num_poses(); ++p) {
+    const int chain = ChainHolding(spans, p);
+    const auto symbol = AsSymbol(graph.ids()[p]);
+    time[p] = {symbol ? static_cast<std::int64_t>(symbol->index)
+                      : p - spans[chain].first,
+               chain};
   }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int p, int q) { return time[p] < time[q]; });
   return order;
 }
 

@@ -373,7 +373,7 @@ MapTrial MaintainedMap<Pose>::Widen(
     if (wider.num_free == trial.num_free) break;  // the whole region
     const double lowered = trial.increase - wider.increase;
     trial = std::move(wider);
-    if (lowered <= significant || trial.increase - lowered >= gate) break;
+    if (lowered <= significant) break;
   }
   return trial;
 }

@@ -247,12 +247,14 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::vector<std::pair<int, std::vector<int>>> Revisits(
       const std::vector<int>& clusters);
   // The join rule's weighing of `clusters` between two chains: their
-  // strongest revisit, its evidence, and the evidence of the revisits that
-  // contradict it together (counted until it reaches the strongest's).
+  // strongest revisit, its evidence (links but one, the checks it passed),
+  // and the evidence of the revisits that contradict it together (exclusive
+  // hypotheses whose odds add: log Σ (1/(1−α))^W, in links; weighed until
+  // it reaches the strongest's).
   struct Weighed {
     int evidence = 0;
     std::vector<int> revisit;
-    int against = 0;
+    double against = 0.0;
     // It joins two maps: more evidence than its contradictors together,
     // one link's check at least.
     bool Joins() const { return evidence >= 1 && against < evidence; }
@@ -270,9 +272,10 @@ class MapVerifier : public OnlineVerifier<Pose> {
   void Join(const std::vector<int>& set);
   // After cluster `c` between chains in one map was refused against it: if
   // the loops between its chains are all that ties their maps, the join is
-  // weighed again with the refused clusters (Weigh); unless its revisit is
-  // still the strongest and still joins, the loops between the chains leave
-  // the map and the join rule judges every cluster between them again.
+  // weighed again with the refused clusters (Weigh); unless the strongest
+  // revisit is one it holds or agrees with those, and still joins, the
+  // loops between the chains leave the map and the join rule judges every
+  // cluster between them again.
   void ReviseJoin(int c);
   // Refuses every held cluster (kApart), at Finish().
   void RefuseApart();

@@ -1,6 +1,7 @@
 // MapVerifier: the join rule, which relates the maps of odometry chains that
 // loops between them may join (README, "Several odometry chains").
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <numeric>
@@ -69,6 +70,21 @@ Pose Placement(const PoseGraph<Pose>& graph, const std::vector<int>& loops,
     if (small) break;
   }
   return frame;
+}
+
+// The evidence of revisits of evidence `each` (exclusive hypotheses)
+// together, in links: each passed check multiplies a revisit's odds by
+// 1 / (1 − α) (a link that does not belong passes the gate of one that does
+// no more often than one that does fails it), and exclusive hypotheses' odds
+// add: log Σ (1/(1−α))^W / log(1/(1−α)), a soft maximum of their W (0 for
+// none).
+double Together(const std::vector<int>& each, double alpha) {
+  if (each.empty()) return 0.0;
+  const double per_link = -std::log(1.0 - alpha);
+  const int most = *std::max_element(each.begin(), each.end());
+  double odds = 0.0;
+  for (const int w : each) odds += std::exp(per_link * (w - most));
+  return most + std::log(odds) / per_link;
 }
 
 }  // namespace
@@ -203,11 +219,15 @@ typename MapVerifier<Pose>::Weighed MapVerifier<Pose>::Weigh(
   const auto revisits = Revisits(clusters);
   w.evidence = revisits.front().first;
   w.revisit = revisits.front().second;
-  for (size_t r = 1; r < revisits.size() && w.against < w.evidence; ++r) {
+  std::vector<int> contradicting;
+  for (size_t r = 1; r < revisits.size() &&
+                     Together(contradicting, options_.alpha) < w.evidence;
+       ++r) {
     if (revisits[r].first > 0 && !Agree(w.revisit, revisits[r].second)) {
-      w.against += revisits[r].first;
+      contradicting.push_back(revisits[r].first);
     }
   }
+  w.against = Together(contradicting, options_.alpha);
   return w;
 }
 
@@ -284,8 +304,8 @@ void MapVerifier<Pose>::ReviseJoin(int c) {
   }
   // The join weighed again with its rivals, the clusters refused against
   // the map it made (JudgeJoin's weighing, as if they were apart): it stands
-  // if the strongest revisit is still one it holds and still has more
-  // evidence than those that contradict it.
+  // while the strongest revisit is one it holds, or agrees with those it
+  // holds, and has more evidence than those that contradict it.
   std::vector<int> between;
   for (size_t r = 0; r < records_.size(); ++r) {
     const auto [x, y] = ChainsOf(static_cast<int>(r));
@@ -297,17 +317,19 @@ void MapVerifier<Pose>::ReviseJoin(int c) {
     }
   }
   const Weighed weighed = Weigh(between);
-  if (weighed.Joins() &&
-      std::any_of(weighed.revisit.begin(), weighed.revisit.end(), [&](int r) {
-        return records_[r].status == Status::kAccepted;
-      })) {
-    return;
+  std::vector<int> joined;
+  for (const int r : between) {
+    if (records_[r].status == Status::kAccepted) joined.push_back(r);
   }
+  const bool strongest_holds =
+      std::any_of(
+          weighed.revisit.begin(), weighed.revisit.end(),
+          [&](int r) { return records_[r].status == Status::kAccepted; }) ||
+      Agree(weighed.revisit, joined);
+  if (weighed.Joins() && strongest_holds) return;
   ++stats_.join_revisions;
   // Apart again, every cluster between them waits for the join rule.
-  for (const int r : between) {
-    if (records_[r].status == Status::kAccepted) LeaveMap(r);
-  }
+  for (const int r : joined) LeaveMap(r);
   for (const int r : between) Hold(r, OwnLinks(r));
   JudgeJoin(a, b);
 }
@@ -322,14 +344,17 @@ void MapVerifier<Pose>::RefuseApart() {
   }
   for (const auto& [pair, clusters] : held) {
     const auto revisits = Revisits(clusters);
-    int total = 0;
-    for (const auto& revisit : revisits) total += std::max(revisit.first, 0);
-    for (const auto& [evidence, revisit] : revisits) {
-      for (const int c : revisit) {
+    for (size_t r = 0; r < revisits.size(); ++r) {
+      std::vector<int> others;
+      for (size_t o = 0; o < revisits.size(); ++o) {
+        if (o != r && revisits[o].first > 0)
+          others.push_back(revisits[o].first);
+      }
+      for (const int c : revisits[r].second) {
         const std::vector<int> links = OwnLinks(c);
-        Record(links, DecisionTest::kApart, evidence);
+        Record(links, DecisionTest::kApart, revisits[r].first);
         for (const int loop : links) {
-          reasons_[loop].gate = std::max(total - std::max(evidence, 0), 1);
+          reasons_[loop].gate = std::max(Together(others, options_.alpha), 1.0);
         }
         records_[c].status = Status::kRefused;
         touched_.push_back(c);
