@@ -50,9 +50,7 @@ std::vector<Pose> FramesIn(const std::vector<ChainPair<Pose>>& pairs,
 // poses) and `maps->estimates` (each chain in its own frame): sets
 // map_of_chain, and minimizes each map, its chains placed in its lowest
 // chain's frame, with the loops of `accepted` inside it (indices into
-// graph.loops()), from those estimates and from the chordal start
-// (ChordalInitialization); `estimates` and `minimized` receive the lower
-// minima. With
+// graph.loops()); `estimates` and `minimized` receive the minima. With
 // `only_map` >= 0, only the map of that lowest chain is minimized (and is
 // the one entry of `minimized`).
 template <class Pose>

@@ -4,7 +4,6 @@
 #include "rrr/geometry/pose3.h"
 #include "rrr/graph/disjoint_sets.h"
 #include "rrr/io/g2o.h"
-#include "rrr/solver/chordal_initialization.h"
 #include "rrr/solver/pose_graph_solver.h"
 
 namespace rrr {
@@ -66,21 +65,10 @@ void MinimizeMaps(const PoseGraph<Pose>& graph,
     }
     const PoseGraph<Pose> one = SubGraph(graph, spans, start, loops);
     const PoseGraphSolver<Pose> solver(one, 1);
-    // From the estimates given and from the chordal start, which depends on
-    // no estimate: the lower minimum (a map that must bend far has several).
     maps->minimized.emplace_back();
-    std::vector<Pose> map = solver.Optimize(AllLoops(one), ConvergenceOptions{},
-                                            &maps->minimized.back(),
-                                            &one.estimates());
-    const std::vector<Pose> chordal =
-        ChordalInitialization(one, AllLoops(one));
-    MinimizeResult from_chordal;
-    std::vector<Pose> other = solver.Optimize(
-        AllLoops(one), ConvergenceOptions{}, &from_chordal, &chordal);
-    if (from_chordal.final_chi2 < maps->minimized.back().final_chi2) {
-      map = std::move(other);
-      maps->minimized.back() = from_chordal;
-    }
+    const std::vector<Pose> map =
+        solver.Optimize(AllLoops(one), ConvergenceOptions{},
+                        &maps->minimized.back(), &one.estimates());
     const std::vector<int> poses = Poses(spans);
     for (size_t k = 0; k < poses.size(); ++k) {
       maps->estimates[poses[k]] = map[k];
