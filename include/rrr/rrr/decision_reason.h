@@ -45,7 +45,8 @@ enum class DecisionTest {
   // Links between two maps that were never joined: the revisit they are in
   // never had more evidence than the revisits between the same chains that
   // contradict it together (`statistic`: its evidence, links that agree
-  // minus one; `gate`: the other revisits' evidence together, at least 1).
+  // minus one; `gate`: the evidence of every revisit between the same
+  // chains together, at least 1).
   kApart,
 };
 

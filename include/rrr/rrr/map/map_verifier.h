@@ -3,6 +3,7 @@
 #ifndef RRR_RRR_MAP_MAP_VERIFIER_H_
 #define RRR_RRR_MAP_MAP_VERIFIER_H_
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -61,12 +62,11 @@ struct MapVerifierStats {
 //  4. Arbitrate judges again the clusters in doubt (InDoubt) after every
 //     whole-map minimization (`optimize_every`) and every reversal, until
 //     nothing changes or kMostArbiterRounds rounds.
-// The join rule (map_join.cc) relates two maps: a cluster between chains of
-// two maps that agrees with itself waits (kJoin) while JudgeJoin weighs the
-// sets of such clusters that agree with each other; the set with more
-// evidence than every other joins the maps, and a join is undone when a set
-// that contradicts it has more (ReviseJoin). Links still waiting at
-// Finish() are refused (kApart).
+// The join rule (map_join.cc): a cluster between two maps that agrees with
+// itself waits (kJoin); the revisits they make are weighed (Weigh), the
+// strongest joins the maps when it outweighs those that contradict it, and
+// a join that no longer does is undone (ReviseJoin). What still waits at
+// Finish() is refused (kApart).
 // With an estimated scale, no cluster is judged before
 // NoiseScaleEstimate::kMinLoopSamples loops have sampled it (or Finish()).
 // The clusters ready at a pose are judged once the next pose exists (or at
@@ -81,12 +81,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // A long revisit is judged in pieces: a cluster whose later stretch spans
   // this many windows is closed, so no decision waits longer than that.
   static constexpr int kClusterSpanWindows = 5;
-  // Each round of the arbiter can change the map and call for another; it
-  // runs until nothing changes. The bound only guards a decision's cost
-  // against a cycle (a damaged checkpoint made one: each round judged two
-  // clusters again): twice the 14 rounds within which the arbiter settled on
-  // every benchmark set (families 1-7, Bicocca's 41 levels;
-  // sphere_bignoise_vertex3), where a bound of 3 stopped it on 10 of them.
+  // The arbiter runs until nothing changes; this bound only guards a
+  // decision's cost against a cycle (a damaged checkpoint made one): twice
+  // the 14 rounds within which it settled on every benchmark set.
   static constexpr int kMostArbiterRounds = 28;
 
   // Throws std::invalid_argument if `options` do not validate.
@@ -107,7 +104,9 @@ class MapVerifier : public OnlineVerifier<Pose> {
   DecisionReason reason(int candidate) const override;
   // The map chain `chain` is in: the lowest chain joined with it (itself if
   // none), as of the last update.
-  int MapOfChain(int chain) const;
+  int MapOfChain(int chain) const {
+    return map_ && chain < map_->num_chains() ? map_->MapOf(chain) : chain;
+  }
   // The counters, and the scales as of the newest pose.
   MapVerifierStats stats() const;
   // The scale of a test of one link against the map, for a decision as of
@@ -120,8 +119,12 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // single loops' own scale (RrrOptions::noise_scale if set).
   double GroupScaleAt(int pose) const;
   // MapScaleAt and GroupScaleAt the newest pose.
-  double noise_scale() const override;
-  double group_noise_scale() const override;
+  double noise_scale() const override {
+    return MapScaleAt(this->graph().num_poses() - 1);
+  }
+  double group_noise_scale() const override {
+    return GroupScaleAt(this->graph().num_poses() - 1);
+  }
   std::string noise_scale_source() const override;
   // The median over the accepted clusters of their error at the map's
   // estimate per degree of freedom: the a-posteriori variance factor of the
@@ -152,8 +155,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
 
   // map_verifier_state.cc: the members SaveState writes and RestoreState
   // reads back, in order (Self: const MapVerifier to write, MapVerifier to
-  // read); the clustering, the chain, the map and the noise scale apart.
-  // The others follow from these, or are empty after every update.
+  // read); the clustering, the map and the noise scale apart. The others
+  // follow from these, or are empty after every update.
   template <class Stream, class Self>
   static void TransferState(Stream* io, Self* self);
   // Derives the accepted links (the map's) and the pending clusters of a
@@ -226,15 +229,15 @@ class MapVerifier : public OnlineVerifier<Pose> {
   // map_join.cc: the join rule.
   // The chains of cluster `c`'s two ends.
   std::pair<int, int> ChainsOf(int c) const;
-  // Whether cluster `c` is between two chains.
-  bool IsBetween(int c) const;
+  // The clusters between chains `a` and `b` (either way) that `keep`.
+  std::vector<int> Between(int a, int b,
+                           const std::function<bool(int)>& keep) const;
   // The links of `c` its own test kept (none refused against the odometry).
   std::vector<int> OwnLinks(int c) const;
   // Whether the own links of the clusters `a` and `b` (between the same
   // chains) agree: together, they pass part 2 against the odometry alone.
+  // Kept until one of their clusters changes (Forget).
   bool Agree(const std::vector<int>& a, const std::vector<int>& b);
-  // Agree of two clusters, kept until either is judged again.
-  bool Agree(int a, int b);
   // Drops the kept answers of Agree that involve cluster `c`, whose links
   // change.
   void Forget(int c);
@@ -262,14 +265,12 @@ class MapVerifier : public OnlineVerifier<Pose> {
   Weighed Weigh(const std::vector<int>& clusters);
   // Holds `links` of `c`, between two maps, for the join rule (kJoin).
   void Hold(int c, const std::vector<int>& links);
-  // The join rule for the maps of chains `a` and `b`, not joined: the held
-  // clusters between `a` and `b` in sets that agree; the set with more
-  // evidence than every other, and at least one link's, joins the maps.
+  // The join rule for the maps of chains `a` and `b`: the held clusters
+  // between them weighed; the strongest revisit joins if it outweighs.
   void JudgeJoin(int a, int b);
-  // Places the map of `set`'s later chain by the set's links and judges the
-  // set's clusters against the map, then every held cluster whose chains
-  // are in one map now.
-  void Join(const std::vector<int>& set);
+  // Places the map of the revisit's later chain by its links and judges its
+  // clusters against the map, then every held cluster now inside one map.
+  void Join(const std::vector<int>& revisit);
   // After cluster `c` between chains in one map was refused against it: if
   // the loops between its chains are all that ties their maps, the join is
   // weighed again with the refused clusters (Weigh); unless the strongest
@@ -298,11 +299,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
   std::vector<DecisionReason> reasons_;  // per loop
   std::vector<int> touched_;             // clusters whose decisions changed
   std::unique_ptr<MaintainedMap<Pose>> map_;
-  int chains_caught_ = 0;  // chains the map has taken in
-  // Agree's answers by pair of clusters (lower first), and by pair of sets
-  // of clusters, until one of their clusters is judged again.
-  std::map<std::pair<int, int>, bool> agree_;
-  std::map<std::pair<std::vector<int>, std::vector<int>>, bool> agree_sets_;
+  // Agree's answers by pair of sets of clusters (lower first).
+  std::map<std::pair<std::vector<int>, std::vector<int>>, bool> agree_;
   NoiseScaleEstimate scale_;
   int decision_pose_ = 0;  // of the decision being made
   int judged_until_ = -1;  // the clusters ready up to this pose are judged

@@ -11,13 +11,11 @@
 
 namespace rrr {
 
-// Runs the map procedure over `graph`, one odometry chain or several, as the
-// node would see it: its poses in `order` (ArrivalOrder; the graph's if
-// empty), each loop candidate right after its later pose, an update after
-// every pose, then Finish() (FeedInArrivalOrder). Returns the decisions in
-// graph.loops() indices; sets `*map` to the final map's estimates (each
-// pose in its map's frame) and `*stats` if given. Throws
-// std::invalid_argument if `options` do not validate.
+// The map procedure over `graph` (one chain or several) as the node sees
+// it: FeedInArrivalOrder in `order` (the graph's if empty). Returns the
+// decisions by graph.loops() index; sets `*map` to the final map (each pose
+// in its map's frame) and `*stats` if given. Throws std::invalid_argument
+// if `options` do not validate.
 template <class Pose>
 Verdict VerifyWithMap(const PoseGraph<Pose>& graph, const RrrOptions& options,
                       std::vector<Pose>* map = nullptr,

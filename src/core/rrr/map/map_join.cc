@@ -75,9 +75,8 @@ Pose Placement(const PoseGraph<Pose>& graph, const std::vector<int>& loops,
 // The evidence of revisits of evidence `each` (exclusive hypotheses)
 // together, in links: each passed check multiplies a revisit's odds by
 // 1 / (1 − α) (a link that does not belong passes the gate of one that does
-// no more often than one that does fails it), and exclusive hypotheses' odds
-// add: log Σ (1/(1−α))^W / log(1/(1−α)), a soft maximum of their W (0 for
-// none).
+// no more often than one that does fails it), and exclusive hypotheses'
+// odds add: log Σ (1/(1−α))^W / log(1/(1−α)), a soft maximum (0 for none).
 double Together(const std::vector<int>& each, double alpha) {
   if (each.empty()) return 0.0;
   const double per_link = -std::log(1.0 - alpha);
@@ -93,12 +92,6 @@ template <class Pose>
 std::pair<int, int> MapVerifier<Pose>::ChainsOf(int c) const {
   const std::int64_t group = clustering_.clusters()[c].group;
   return {static_cast<int>(group >> 32), static_cast<int>(group & 0xffffffff)};
-}
-
-template <class Pose>
-bool MapVerifier<Pose>::IsBetween(int c) const {
-  const auto [a, b] = ChainsOf(c);
-  return a != b;
 }
 
 template <class Pose>
@@ -121,25 +114,24 @@ std::vector<int> MapVerifier<Pose>::OwnLinks(int c) const {
 template <class Pose>
 void MapVerifier<Pose>::Forget(int c) {
   for (auto it = agree_.begin(); it != agree_.end();) {
-    it = it->first.first == c || it->first.second == c ? agree_.erase(it)
-                                                       : std::next(it);
-  }
-  for (auto it = agree_sets_.begin(); it != agree_sets_.end();) {
     const auto& [x, y] = it->first;
     it = std::count(x.begin(), x.end(), c) + std::count(y.begin(), y.end(), c)
-             ? agree_sets_.erase(it)
+             ? agree_.erase(it)
              : std::next(it);
   }
 }
 
 template <class Pose>
-bool MapVerifier<Pose>::Agree(int a, int b) {
-  const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
-  const auto known = agree_.find(key);
-  if (known != agree_.end()) return known->second;
-  const bool agree = Agree(std::vector<int>{a}, std::vector<int>{b});
-  agree_.emplace(key, agree);
-  return agree;
+std::vector<int> MapVerifier<Pose>::Between(
+    int a, int b, const std::function<bool(int)>& keep) const {
+  std::vector<int> clusters;
+  for (int c = 0; c < static_cast<int>(records_.size()); ++c) {
+    const auto [x, y] = ChainsOf(c);
+    if (std::minmax(x, y) == std::minmax(a, b) && keep(c)) {
+      clusters.push_back(c);
+    }
+  }
+  return clusters;
 }
 
 template <class Pose>
@@ -170,7 +162,7 @@ std::vector<std::pair<int, std::vector<int>>> MapVerifier<Pose>::Revisits(
   for (size_t i = 0; i < clusters.size(); ++i) {
     for (size_t j = i + 1; j < clusters.size(); ++j) {
       if (find(i) != find(j) && Adjacent(clusters[i], clusters[j]) &&
-          Agree(clusters[i], clusters[j])) {
+          Agree({clusters[i]}, {clusters[j]})) {
         root[find(j)] = find(i);
       }
     }
@@ -196,8 +188,8 @@ template <class Pose>
 bool MapVerifier<Pose>::Agree(const std::vector<int>& a,
                               const std::vector<int>& b) {
   const auto key = std::minmax(a, b);
-  const auto known = agree_sets_.find(key);
-  if (known != agree_sets_.end()) return known->second;
+  const auto known = agree_.find(key);
+  if (known != agree_.end()) return known->second;
   std::vector<int> links;
   for (const std::vector<int>* set : {&a, &b}) {
     for (const int c : *set) {
@@ -207,7 +199,7 @@ bool MapVerifier<Pose>::Agree(const std::vector<int>& a,
   }
   const bool agree =
       Passes(Test(links, Against::kOdometry), Against::kOdometry);
-  agree_sets_.emplace(std::make_pair(key.first, key.second), agree);
+  agree_.emplace(std::make_pair(key.first, key.second), agree);
   return agree;
 }
 
@@ -243,30 +235,21 @@ void MapVerifier<Pose>::Hold(int c, const std::vector<int>& links) {
 template <class Pose>
 void MapVerifier<Pose>::JudgeJoin(int a, int b) {
   if (map_->MapOf(a) == map_->MapOf(b)) return;
-  std::vector<int> held;
-  for (size_t c = 0; c < records_.size(); ++c) {
-    const auto [x, y] = ChainsOf(static_cast<int>(c));
-    if (records_[c].status == Status::kHeld &&
-        std::minmax(x, y) == std::minmax(a, b)) {
-      held.push_back(static_cast<int>(c));
-    }
-  }
-  const Weighed weighed = Weigh(held);
+  const Weighed weighed = Weigh(Between(
+      a, b, [&](int c) { return records_[c].status == Status::kHeld; }));
   if (weighed.Joins()) Join(weighed.revisit);
 }
 
 template <class Pose>
-void MapVerifier<Pose>::Join(const std::vector<int>& set) {
+void MapVerifier<Pose>::Join(const std::vector<int>& revisit) {
   ++stats_.joins;
   const ChainOdometry<Pose>& chains = this->chains();
-  const auto [a, b] = ChainsOf(set.front());
+  const auto [a, b] = ChainsOf(revisit.front());
   const int moved = std::max(map_->MapOf(a), map_->MapOf(b));
-  std::vector<std::pair<int, std::vector<int>>> own;  // (cluster, own links)
   std::vector<int> links;
-  for (const int c : set) {
-    own.emplace_back(c, OwnLinks(c));
-    links.insert(links.end(), own.back().second.begin(),
-                 own.back().second.end());
+  for (const int c : revisit) {
+    const std::vector<int> own = OwnLinks(c);
+    links.insert(links.end(), own.begin(), own.end());
   }
   map_->Move(moved, Placement<Pose>(
                         this->graph(), links,
@@ -274,22 +257,23 @@ void MapVerifier<Pose>::Join(const std::vector<int>& set) {
                           return map_->MapOf(chains.chain_of(p)) == moved;
                         },
                         [&](int p) { return map_->Estimate(p); }));
-  std::stable_sort(own.begin(), own.end(), [](const auto& x, const auto& y) {
-    return x.second.size() > y.second.size();
+  // The revisit's clusters, the largest first, then every cluster held
+  // between maps that are one now.
+  std::vector<int> order = revisit;
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+    return OwnLinks(x).size() > OwnLinks(y).size();
   });
-  for (auto& [c, of] : own) {
+  const auto judge = [&](int c) {
     records_[c].status = Status::kRefused;
-    JudgeAgainstMap(c, std::move(of));
-  }
-  // The clusters held between maps that are one now.
-  for (size_t c = 0; c < records_.size(); ++c) {
-    const auto [x, y] = ChainsOf(static_cast<int>(c));
-    if (records_[c].status != Status::kHeld ||
-        map_->MapOf(x) != map_->MapOf(y)) {
-      continue;
+    JudgeAgainstMap(c, OwnLinks(c));
+  };
+  for (const int c : order) judge(c);
+  for (int c = 0; c < static_cast<int>(records_.size()); ++c) {
+    const auto [x, y] = ChainsOf(c);
+    if (records_[c].status == Status::kHeld &&
+        map_->MapOf(x) == map_->MapOf(y)) {
+      judge(c);
     }
-    records_[c].status = Status::kRefused;
-    JudgeAgainstMap(static_cast<int>(c), OwnLinks(static_cast<int>(c)));
   }
   arbiter_due_ = true;
 }
@@ -306,21 +290,13 @@ void MapVerifier<Pose>::ReviseJoin(int c) {
   // the map it made (JudgeJoin's weighing, as if they were apart): it stands
   // while the strongest revisit is one it holds, or agrees with those it
   // holds, and has more evidence than those that contradict it.
-  std::vector<int> between;
-  for (size_t r = 0; r < records_.size(); ++r) {
-    const auto [x, y] = ChainsOf(static_cast<int>(r));
-    if (std::minmax(x, y) == std::minmax(a, b) &&
-        (records_[r].status == Status::kAccepted ||
-         (records_[r].status == Status::kRefused &&
-          !OwnLinks(static_cast<int>(r)).empty()))) {
-      between.push_back(static_cast<int>(r));
-    }
-  }
+  const std::vector<int> between = Between(a, b, [&](int r) {
+    return records_[r].status == Status::kAccepted ||
+           (records_[r].status == Status::kRefused && !OwnLinks(r).empty());
+  });
+  const std::vector<int> joined = Between(
+      a, b, [&](int r) { return records_[r].status == Status::kAccepted; });
   const Weighed weighed = Weigh(between);
-  std::vector<int> joined;
-  for (const int r : between) {
-    if (records_[r].status == Status::kAccepted) joined.push_back(r);
-  }
   const bool strongest_holds =
       std::any_of(
           weighed.revisit.begin(), weighed.revisit.end(),
@@ -344,18 +320,16 @@ void MapVerifier<Pose>::RefuseApart() {
   }
   for (const auto& [pair, clusters] : held) {
     const auto revisits = Revisits(clusters);
-    for (size_t r = 0; r < revisits.size(); ++r) {
-      std::vector<int> others;
-      for (size_t o = 0; o < revisits.size(); ++o) {
-        if (o != r && revisits[o].first > 0)
-          others.push_back(revisits[o].first);
-      }
-      for (const int c : revisits[r].second) {
+    std::vector<int> every;
+    for (const auto& [evidence, revisit] : revisits) {
+      if (evidence > 0) every.push_back(evidence);
+    }
+    const double together = std::max(Together(every, options_.alpha), 1.0);
+    for (const auto& [evidence, revisit] : revisits) {
+      for (const int c : revisit) {
         const std::vector<int> links = OwnLinks(c);
-        Record(links, DecisionTest::kApart, revisits[r].first);
-        for (const int loop : links) {
-          reasons_[loop].gate = std::max(Together(others, options_.alpha), 1.0);
-        }
+        Record(links, DecisionTest::kApart, evidence);
+        for (const int loop : links) reasons_[loop].gate = together;
         records_[c].status = Status::kRefused;
         touched_.push_back(c);
       }
@@ -363,23 +337,13 @@ void MapVerifier<Pose>::RefuseApart() {
   }
 }
 
-#define RRR_INSTANTIATE_JOIN(Pose)                                       \
-  template std::pair<int, int> MapVerifier<Pose>::ChainsOf(int) const;   \
-  template bool MapVerifier<Pose>::IsBetween(int) const;                 \
-  template std::vector<int> MapVerifier<Pose>::OwnLinks(int) const;      \
-  template bool MapVerifier<Pose>::Agree(int, int);                      \
-  template void MapVerifier<Pose>::Forget(int);                          \
-  template typename MapVerifier<Pose>::Weighed MapVerifier<Pose>::Weigh( \
-      const std::vector<int>&);                                          \
-  template bool MapVerifier<Pose>::Adjacent(int, int) const;             \
-  template std::vector<std::pair<int, std::vector<int>>>                 \
-  MapVerifier<Pose>::Revisits(const std::vector<int>&);                  \
-  template bool MapVerifier<Pose>::Agree(const std::vector<int>&,        \
-                                         const std::vector<int>&);       \
-  template void MapVerifier<Pose>::Hold(int, const std::vector<int>&);   \
-  template void MapVerifier<Pose>::JudgeJoin(int, int);                  \
-  template void MapVerifier<Pose>::Join(const std::vector<int>&);        \
-  template void MapVerifier<Pose>::ReviseJoin(int);                      \
+// The members the other parts of MapVerifier call.
+#define RRR_INSTANTIATE_JOIN(Pose)                                     \
+  template std::pair<int, int> MapVerifier<Pose>::ChainsOf(int) const; \
+  template void MapVerifier<Pose>::Forget(int);                        \
+  template void MapVerifier<Pose>::Hold(int, const std::vector<int>&); \
+  template void MapVerifier<Pose>::JudgeJoin(int, int);                \
+  template void MapVerifier<Pose>::ReviseJoin(int);                    \
   template void MapVerifier<Pose>::RefuseApart();
 RRR_INSTANTIATE_JOIN(Pose2)
 RRR_INSTANTIATE_JOIN(Pose3)

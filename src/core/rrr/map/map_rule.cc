@@ -337,21 +337,14 @@ bool MapVerifier<Pose>::ArbitrateOnce() {
   return changed;
 }
 
+// The members the other parts of MapVerifier call.
 #define RRR_INSTANTIATE_RULE(Pose)                                             \
   template double MapVerifier<Pose>::Gate(Against, size_t) const;              \
   template MapTrial MapVerifier<Pose>::Test(const std::vector<int>&, Against); \
   template bool MapVerifier<Pose>::Passes(const MapTrial&, Against) const;     \
-  template MapTrial MapVerifier<Pose>::AtEstimate(const std::vector<int>&)     \
-      const;                                                                   \
-  template std::vector<int> MapVerifier<Pose>::KeepAgreeing(                   \
-      std::vector<int>, Against, MapTrial*);                                   \
   template void MapVerifier<Pose>::JudgeCluster(int);                          \
   template void MapVerifier<Pose>::JudgeAgainstMap(int, std::vector<int>);     \
-  template bool MapVerifier<Pose>::Outweigh(int, const std::vector<int>&,      \
-                                            const MapTrial&, size_t);          \
-  template void MapVerifier<Pose>::Arbitrate();                                \
-  template bool MapVerifier<Pose>::InDoubt(int) const;                         \
-  template bool MapVerifier<Pose>::ArbitrateOnce();
+  template void MapVerifier<Pose>::Arbitrate();
 RRR_INSTANTIATE_RULE(Pose2)
 RRR_INSTANTIATE_RULE(Pose3)
 #undef RRR_INSTANTIATE_RULE

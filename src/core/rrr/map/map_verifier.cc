@@ -39,16 +39,6 @@ double MapVerifier<Pose>::GroupScaleAt(int pose) const {
 }
 
 template <class Pose>
-double MapVerifier<Pose>::noise_scale() const {
-  return MapScaleAt(this->graph().num_poses() - 1);
-}
-
-template <class Pose>
-double MapVerifier<Pose>::group_noise_scale() const {
-  return GroupScaleAt(this->graph().num_poses() - 1);
-}
-
-template <class Pose>
 std::string MapVerifier<Pose>::noise_scale_source() const {
   return options_.noise_scale > 0.0
              ? "set"
@@ -63,11 +53,6 @@ MapVerifierStats MapVerifier<Pose>::stats() const {
   stats.noise_scale_source = noise_scale_source();
   stats.a_posteriori_scale = APosterioriScale();
   return stats;
-}
-
-template <class Pose>
-int MapVerifier<Pose>::MapOfChain(int chain) const {
-  return map_ && chain < map_->num_chains() ? map_->MapOf(chain) : chain;
 }
 
 template <class Pose>

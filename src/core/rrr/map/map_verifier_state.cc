@@ -157,22 +157,19 @@ void MapVerifier<Pose>::CompleteRestored() {
       }
       if (map_ && map_->Contains(of[k])) r.accepted.push_back(of[k]);
     }
+    // A judged cluster's chains are the map's; a held one's in two maps.
     const auto [a, b] = ChainsOf(c);
+    const bool judged = r.status != Status::kPending;
     within(std::min(a, b), 0, this->num_chains() - 1, "a cluster's chain");
-    within(std::max(a, b), 0, this->num_chains() - 1, "a cluster's chain");
-    if (r.status != Status::kPending && !map_) {
+    within(std::max(a, b), 0,
+           (judged && map_ ? map_->num_chains()
+            : judged       ? 0
+                           : this->num_chains()) -
+               1,
+           "the chain of a cluster");
+    if (r.status == Status::kHeld && map_->MapOf(a) == map_->MapOf(b)) {
       throw std::runtime_error("cluster " + std::to_string(c) +
-                               " was judged without a map");
-    }
-    if (r.status != Status::kPending) {
-      within(std::max(a, b), 0, map_->num_chains() - 1,
-             "the chain of a judged cluster");
-    }
-    if (r.status == Status::kHeld) {
-      if (map_->MapOf(a) == map_->MapOf(b)) {
-        throw std::runtime_error("cluster " + std::to_string(c) +
-                                 " waits for a join of chains in one map");
-      }
+                               " waits for a join of chains in one map");
     }
     if ((r.status == Status::kAccepted) == r.accepted.empty()) {
       throw std::runtime_error("cluster " + std::to_string(c) + " has " +
