@@ -11,11 +11,11 @@ whether the final decisions equal rrr verify's with the same procedure, and
 the growth of the update time with the keyframes (the slope of log time
 against log keyframes, on the 90th percentile, in each 1000 keyframes, of
 the longest of the node's last 100 updates, sampled every second). Writes samples (CSV), a summary (JSON) and the plot
-bench/plots/node_scaling.png.
+(OUT/node_scaling.png, or --plot PATH).
 
     bench/node_scaling.py [--dataset city10000 | --world 100000] [--outliers 1000]
                           [--rate 50] [--play 1] [--database]
-                          [--procedures map published] [--limit 1800]
+                          [--procedures map published] [--limit 1800] [--plot PATH]
 
 A procedure that has not taken in every input after --limit seconds is
 stopped there; its samples up to then are kept and plotted.
@@ -25,7 +25,6 @@ import csv
 import json
 import math
 import pathlib
-import shutil
 import subprocess
 import threading
 import time
@@ -172,6 +171,7 @@ def main():
                         help="seconds a replay may take before it is stopped")
     parser.add_argument("--port", type=int, default=11541)
     parser.add_argument("--out", default=str(common.ROOT / "bench" / "out" / "node_scaling"))
+    parser.add_argument("--plot", help="where the plot goes (default OUT/node_scaling[_worldN].png)")
     args = parser.parse_args()
     common.require_rrr()
     out = pathlib.Path(args.out).resolve()
@@ -234,10 +234,7 @@ def main():
     with open(out / "summary.json", "w") as f:
         json.dump(summary, f, indent=1)
     name = f"node_scaling_world{args.world}.png" if args.world else "node_scaling.png"
-    plot(series, out / name, args)
-    plots = common.ROOT / "bench" / "plots"
-    plots.mkdir(exist_ok=True)
-    shutil.copy(out / name, plots / name)
+    plot(series, pathlib.Path(args.plot) if args.plot else out / name, args)
 
 
 def plot(series, path, args):

@@ -50,14 +50,9 @@ set(RRR_CORE_SOURCES
   src/core/rrr/map/map_verifier_state.cc
   src/core/rrr/map/noise_scale.cc
   src/core/rrr/map/verify_with_map.cc
-  src/core/fleet/fleet.cc
   src/core/session/sqlite_db.cc
+  src/core/session/session_schema.cc
   src/core/session/session_store.cc
-  src/core/session/robot_session.cc
-  src/core/session/fleet_store.cc
-  src/core/session/fleet_session.cc
-  src/core/session/session_tables.cc
+  src/core/session/session.cc
   src/core/session/compressed_blob.cc
-  src/core/session/session_contents.cc
-  src/core/session/stamped_waiting_table.cc
 )

@@ -1,8 +1,9 @@
 // Writes the seed corpora of the fuzz targets into DIR/<target>/: a small
 // generated world as g2o text, session databases recorded from it (2D and
-// 3D, and a fleet of two robots), serialized LoopClosure and Odometry
-// messages, and the map procedure's state saved part way. (scripts/fuzz.sh adds
-// the first lines of the shared datasets when they are there.)
+// 3D, and a fleet of two robots, with checkpoints), serialized LoopClosure and
+// Odometry messages, and the map procedure's state saved part way.
+// (scripts/fuzz.sh adds the first lines of the shared datasets when they are
+// there.)
 //
 //   make_seeds DIR
 #include <nav_msgs/Odometry.h>
@@ -21,8 +22,7 @@
 #include "rrr/geometry/pose3.h"
 #include "rrr/io/g2o.h"
 #include "rrr/rrr/map/map_verifier.h"
-#include "rrr/session/fleet_store.h"
-#include "rrr/session/session_store.h"
+#include "rrr/session/session.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/LoopClosure.h"
 
@@ -41,85 +41,47 @@ void WriteMessage(const M& msg, const fs::path& path) {
              static_cast<std::streamsize>(bytes.size()));
 }
 
-// Records `graph` as rrr_node would: keyframes, candidates after their later
-// pose, an update every `update_every` poses, each committed.
+// Records `graph` as rrr_node records `robots` robots (1 or 2): robot r
+// drives part r of its poses, side by side, each loop once both its
+// keyframes exist (those at a robot's first keyframe by stamp, one more by
+// stamp still waiting at the end), an update every `update_every` rounds.
 template <class Pose>
-void WriteSession(const rrr::PoseGraph<Pose>& graph, int update_every,
+void WriteSession(const rrr::PoseGraph<Pose>& graph,
+                  const std::vector<std::string>& robots, int update_every,
                   const fs::path& path) {
   fs::remove(path);
-  rrr::MapVerifier<Pose> verifier{rrr::RrrOptions()};
-  rrr::SessionStore<Pose> store(path.string(), "map");
-  std::vector<int> loop_of_pose(graph.num_poses(), -1);
-  std::vector<std::vector<int>> loops_at(graph.num_poses());
-  for (size_t k = 0; k < graph.loops().size(); ++k) {
-    const auto& l = graph.loops()[k];
-    loops_at[std::max(l.from, l.to)].push_back(static_cast<int>(k));
-  }
-  for (int p = 0; p < graph.num_poses(); ++p) {
-    rrr::KeyframeRecord<Pose> keyframe;
-    keyframe.stamp_ns = 1000000000LL * p;
-    keyframe.odometry_pose = graph.estimates()[p];
-    if (p == 0) {
-      verifier.AddFirstPose(graph.ids()[0], graph.estimates()[0]);
-      store.RecordFirstKeyframe(graph.ids()[0], keyframe);
-    } else {
-      const auto& e = graph.odometry()[p - 1];
-      const rrr::PoseId id = verifier.AddOdometry(e.measurement, e.information);
-      store.RecordKeyframe(id, keyframe, e.measurement, e.information);
-    }
-    for (const int k : loops_at[p]) {
-      const auto& l = graph.loops()[k];
-      const rrr::PoseId a = graph.ids()[l.from], b = graph.ids()[l.to];
-      const int number = verifier.AddLoop(a, b, l.measurement, l.information);
-      store.RecordCandidate(number, a, b, l.measurement, l.information);
-    }
-    if ((p + 1) % update_every == 0)
-      store.CommitUpdate(false, verifier.Update());
-  }
-  // A candidate named by stamp, still waiting at the end.
-  const auto& first = graph.loops().front();
-  store.RecordStampedWaiting(0, 1000000000LL * graph.num_poses(), 0,
-                             first.measurement, first.information);
-  store.CommitUpdate(true, verifier.Finish());
-}
-
-// Records `graph` as rrr_node records a fleet: its first and second halves
-// robots a and b side by side, each loop once both its keyframes exist (one
-// by stamp), an update every `update_every` rounds.
-void WriteFleetSession(const rrr::PoseGraph<rrr::Pose2>& graph,
-                       int update_every, const fs::path& path) {
-  fs::remove(path);
-  rrr::Fleet<rrr::Pose2> fleet({"a", "b"}, rrr::FleetOptions{});
-  rrr::FleetStore<rrr::Pose2> store(path.string(), {"a", "b"}, "map");
-  const int half = graph.num_poses() / 2;
-  for (int k = 0; k < half; ++k) {
-    for (int r = 0; r < 2; ++r) {
-      rrr::KeyframeRecord<rrr::Pose2> keyframe;
-      keyframe.stamp_ns = 1000000000LL * k;
+  rrr::SessionOptions options;
+  options.database = path.string();
+  options.checkpoint_keyframes = 50;
+  rrr::Session<Pose> session(robots, options, nullptr);
+  const int n = static_cast<int>(robots.size());
+  const int part = graph.num_poses() / n;
+  constexpr std::int64_t kSecond = 1000000000;
+  for (int k = 0; k < part; ++k) {
+    for (int r = 0; r < n; ++r) {
+      rrr::KeyframeRecord<Pose> keyframe;
+      keyframe.stamp_ns = kSecond * k;
       keyframe.odometry_pose =
-          graph.estimates()[r * half].between(graph.estimates()[r * half + k]);
-      const auto taken = fleet.AddReading(r, keyframe);
-      store.RecordKeyframe(r, keyframe, taken);
+          graph.estimates()[r * part].between(graph.estimates()[r * part + k]);
+      session.AddReading(r, keyframe);
     }
     for (const auto& l : graph.loops()) {
-      const int ra = l.from / half, rb = l.to / half;
-      const int ka = l.from % half, kb = l.to % half;
-      if (ra > 1 || rb > 1 || std::max(ka, kb) != k) continue;
+      const int ra = l.from / part, rb = l.to / part;
+      const int ka = l.from % part, kb = l.to % part;
+      if (ra >= n || rb >= n || std::max(ka, kb) != k) continue;
       if (ka == 0) {
-        const int number = fleet.AddLoopByStamp(ra, 0, rb, 1000000000LL * kb,
-                                                l.measurement, l.information);
-        store.RecordCandidateByStamp(number, ra, 0, rb, 1000000000LL * kb,
-                                     l.measurement, l.information);
+        session.AddCandidateByStamp(0, ra, 0, rb, kSecond * kb, l.measurement,
+                                    l.information);
       } else {
-        const int number =
-            fleet.AddLoop(ra, ka, rb, kb, l.measurement, l.information);
-        store.RecordCandidate(number, ra, ka, rb, kb, l.measurement,
-                              l.information);
+        session.AddCandidate(0, ra, ka, rb, kb, l.measurement, l.information);
       }
     }
-    if ((k + 1) % update_every == 0) store.CommitUpdate(false, fleet.Update());
+    if ((k + 1) % update_every == 0) session.Update(false);
   }
-  store.CommitUpdate(true, fleet.Finish());
+  const auto& first = graph.loops().front();
+  session.AddCandidateByStamp(0, 0, kSecond * part, 0, 0, first.measurement,
+                              first.information);
+  session.Update(true);
 }
 
 }  // namespace
@@ -147,9 +109,9 @@ int main(int argc, char** argv) {
   rrr::WriteG2oFile(g3, g3.estimates(), rrr::AllLoops(g3),
                     (dir / "g2o_reader" / "world3d.g2o").string());
 
-  WriteSession(g, 10, dir / "session_reader" / "world2d.db");
-  WriteSession(g3, 40, dir / "session_reader" / "world3d.db");
-  WriteFleetSession(g, 10, dir / "session_reader" / "fleet2d.db");
+  WriteSession(g, {""}, 10, dir / "session_reader" / "world2d.db");
+  WriteSession(g3, {""}, 40, dir / "session_reader" / "world3d.db");
+  WriteSession(g, {"a", "b"}, 10, dir / "session_reader" / "fleet2d.db");
 
   // The map procedure's state part way through SmallRing(), updated after
   // each pose.

@@ -103,7 +103,7 @@ def decisions(env, timeout=120):
             stripped = stripped[1:].strip()
         if every and ":" in stripped:
             key, value = stripped.split(":", 1)
-            every[-1][key.strip()] = value.strip().strip('"')
+            every[-1][key.strip()] = value.strip().strip('"').strip("'")
     return every
 
 

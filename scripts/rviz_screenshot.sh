@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 LEVEL=${1:-0.150}
-OUT=${2:-doc/rviz_bicocca_${LEVEL}.png}
+OUT=${2:-doc/images/rviz_bicocca_${LEVEL}.png}
 RATE=${3:-20}
 DATA=${RRR_DATASETS:-$(pwd)/../shared/datasets}/bicocca25b
 [ -f "$DATA/B25b_$LEVEL.g2o" ] || { echo "Bicocca 25b not found in $DATA (set RRR_DATASETS)"; exit 1; }

@@ -20,7 +20,7 @@
 #include "ros_test_helpers.h"
 #include "rrr/graph/chain_spans.h"
 #include "rrr/io/g2o.h"
-#include "rrr/session/fleet_session.h"
+#include "rrr/session/session.h"
 #include "rrr/sim/simulated_world.h"
 #include "rrr_slam/GetAcceptedGraph.h"
 #include "rrr_slam/GetDecisions.h"
@@ -138,28 +138,22 @@ TEST(Fleet, EveryCandidateIsJudgedAsTheRecordedInputsReplayedAreJudged) {
   ASSERT_TRUE(ros::param::get("/rrr_node/database", database));
   int window = 0;
   ASSERT_TRUE(ros::param::get("/rrr_node/cluster_window", window));
-  rrr::FleetOptions options;
+  rrr::SessionOptions options;
   options.rrr.cluster_window = window;
   options.restart_jump = 5.0;
-  // A copy of the database with its write-ahead log (the node holds it).
+  const std::string copy = database + ".copy";
+  const auto replay = rrr::ReplaySession<rrr::Pose2>(database, copy, options);
   for (const std::string part : {"", "-wal", "-shm"}) {
-    std::ifstream from(database + part, std::ios::binary);
-    if (!from) continue;
-    std::ofstream to(database + ".copy" + part, std::ios::binary);
-    to << from.rdbuf();
+    std::remove((copy + part).c_str());
   }
-  rrr::FleetSession<rrr::Pose2> replay(robots, options, database + ".copy");
-  replay.Resume();
-  const auto& fleet = replay.fleet();
-  ASSERT_EQ(fleet.verifier().num_candidates(),
+  ASSERT_EQ(replay->robots(), robots);
+  ASSERT_EQ(replay->verifier().num_candidates(),
             static_cast<int>(all.response.decisions.decisions.size()));
   for (const auto& d : all.response.decisions.decisions) {
-    EXPECT_EQ(fleet.verifier().state(d.candidate) == rrr::LoopState::kAccepted,
-              d.state == rrr_slam::LoopDecision::ACCEPTED)
+    EXPECT_EQ(
+        replay->verifier().state(d.candidate) == rrr::LoopState::kAccepted,
+        d.state == rrr_slam::LoopDecision::ACCEPTED)
         << "candidate " << d.candidate;
-  }
-  for (const std::string part : {"", "-wal", "-shm"}) {
-    std::remove((database + ".copy" + part).c_str());
   }
   // A session per robot, and one more for the robot that restarted: no
   // odometry edge joins its two sessions. One map, no false loop in it,
@@ -173,7 +167,7 @@ TEST(Fleet, EveryCandidateIsJudgedAsTheRecordedInputsReplayedAreJudged) {
   const std::vector<rrr::ChainSpan> chains = rrr::ChainSpansOf(graph);
   EXPECT_EQ(chains.size(), robots.size() + restarts);
   for (size_t c = 0; c < chains.size(); ++c) {
-    EXPECT_EQ(fleet.MapOfChain(static_cast<int>(c)), 0) << "chain " << c;
+    EXPECT_EQ(replay->MapOfChain(static_cast<int>(c)), 0) << "chain " << c;
   }
   size_t true_accepted = 0;
   for (const auto& [ends, accepted] : decisions) {
@@ -215,6 +209,12 @@ TEST(Fleet, EveryCandidateIsJudgedAsTheRecordedInputsReplayedAreJudged) {
   }
   const auto status = rrr_test::Status();
   EXPECT_EQ(status.invalid_messages, 0u);
+  // The fleet's state, as one robot's node reports its own.
+  EXPECT_EQ(status.sessions, chains.size());
+  EXPECT_EQ(status.maps, 1u);
+  EXPECT_GT(status.clusters, 0u);
+  EXPECT_GT(status.noise_scale, 0.0);
+  EXPECT_EQ(status.keyframes, static_cast<uint32_t>(graph.num_poses()));
   // Each candidate's latency, from its arrival to the update that published
   // it, is measured (none is published before it arrives).
   EXPECT_GT(status.candidate_latency_p50, 0.0);

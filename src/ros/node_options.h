@@ -38,15 +38,14 @@ struct NodeOptions {
   // Inputs that may wait for the worker; more are refused and counted.
   size_t max_queue_length = 100000;
   rrr::RrrOptions rrr;
-  // A fleet (FleetNode): the robots' names, each with its odometry on
-  // `<robot>/odom` and its frames `<robot>/<odom_frame>` and
-  // `<robot>/<base_frame>`. Empty: one robot (VerifierNode).
+  // A fleet: the robots' names, each with its odometry on `<robot>/odom`
+  // and its frames `<robot>/<odom_frame>` and `<robot>/<base_frame>`.
+  // Empty: one robot, on `odom` in `odom_frame`.
   std::vector<std::string> robots;
-  // A fleet's robot whose odometry jumps more than this many metres between
-  // two messages restarted: it continues in a new session (0: never). One
-  // robot's odometry back at its origin this far from the keyframe before
-  // restarted too: it is warned about and counted (one chain cannot hold a
-  // session; rrr::RobotSessionOptions::restart_jump).
+  // A robot's odometry back at its frame's origin while its last reading was
+  // more than this many metres from it restarted: the robot continues in a
+  // new session that only loop closures join (rrr::SessionOptions; 0: not
+  // looked for). A reading stamped before the last restarts it too.
   double restart_jump = 1.0;
 
   // Reads the private parameters of `nh`; throws std::invalid_argument naming

@@ -10,11 +10,9 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "rrr/session/session_store.h"
 #include "rrr_slam/GetStatus.h"
 #include "update_timings.h"
 
@@ -39,31 +37,6 @@ class NodeStatus {
   // message `seq`, with `why`.
   void CountInvalid(const std::string& kind, uint32_t seq,
                     const std::string& why);
-  // Runs `resume`, a core session's Resume() on `database`, and counts what
-  // it found (the database, keyframes, candidates and updates); warns if
-  // decisions differ from the recorded ones, `maybe_why` saying what may
-  // have changed. Returns the session's summary. Throws
-  // std::invalid_argument naming the database if it cannot be resumed.
-  // Called before Serve().
-  template <class Resume>
-  auto CountResumed(const std::string& database, const Resume& resume,
-                    const char* maybe_why) -> decltype(resume()) {
-    decltype(resume()) summary;
-    try {
-      summary = resume();
-    } catch (const rrr::SessionError& e) {
-      throw std::invalid_argument(std::string("database: ") + e.what());
-    }
-    if (summary.differing_decisions > 0) {
-      ROS_WARN("rrr_node: %d decisions differ from the ones %s recorded (%s)",
-               summary.differing_decisions, database.c_str(), maybe_why);
-    }
-    counts.database = database;
-    counts.resumed_keyframes = summary.keyframes;
-    counts.resumed_candidates = summary.candidates;
-    counts.updates = summary.updates;
-    return summary;
-  }
   // Counts an update the session database could not record (`why`: the
   // store's error; "" counts nothing) and logs it (throttled).
   void CountDatabaseError(const std::string& why);

@@ -4,7 +4,6 @@
 #include <memory>
 #include <thread>
 
-#include "fleet_node.h"
 #include "node_options.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
@@ -38,16 +37,9 @@ int main(int argc, char** argv) {
     node.Run();
     stop.join();
   };
-  // One robot (VerifierNode) or a fleet (FleetNode, `robots` set).
   const auto serve = [&](auto pose) {
-    using Pose = decltype(pose);
-    if (options.robots.empty()) {
-      rrr_ros::VerifierNode<Pose> node(nh, private_nh, options);
-      run(node);
-    } else {
-      rrr_ros::FleetNode<Pose> node(nh, private_nh, options);
-      run(node);
-    }
+    rrr_ros::VerifierNode<decltype(pose)> node(nh, private_nh, options);
+    run(node);
   };
   try {
     if (options.dimension == 2) {

@@ -6,24 +6,32 @@
 namespace rrr_ros {
 
 template <class Pose>
-void SetVerifierState(const rrr::OnlineVerifier<Pose>& verifier,
-                      rrr_slam::GetStatus::Response* status) {
+void SetSessionState(const rrr::Session<Pose>& session,
+                     rrr_slam::GetStatus::Response* status) {
+  const rrr::OnlineVerifier<Pose>& verifier = session.verifier();
   status->keyframes = verifier.graph().num_poses();
+  status->sessions = session.num_chains();
+  status->maps = 0;
+  for (int c = 0; c < session.num_chains(); ++c) {
+    status->maps += session.MapOfChain(c) == c;
+  }
   status->candidates = verifier.num_candidates();
   status->accepted = verifier.num_in_state(rrr::LoopState::kAccepted);
   status->rejected = verifier.num_in_state(rrr::LoopState::kRejected);
   status->pending = verifier.num_in_state(rrr::LoopState::kPending);
-  status->waiting = verifier.num_waiting();
+  status->waiting_by_stamp = session.num_waiting_by_stamp();
+  status->waiting = verifier.num_waiting() + session.num_waiting_for_robots() +
+                    status->waiting_by_stamp;
   status->clusters = verifier.num_clusters();
   status->noise_scale = verifier.noise_scale();
   status->noise_scale_source = verifier.noise_scale_source();
   status->group_noise_scale = verifier.group_noise_scale();
 }
 
-template void SetVerifierState(const rrr::OnlineVerifier<rrr::Pose2>&,
-                               rrr_slam::GetStatus::Response*);
-template void SetVerifierState(const rrr::OnlineVerifier<rrr::Pose3>&,
-                               rrr_slam::GetStatus::Response*);
+template void SetSessionState(const rrr::Session<rrr::Pose2>&,
+                              rrr_slam::GetStatus::Response*);
+template void SetSessionState(const rrr::Session<rrr::Pose3>&,
+                              rrr_slam::GetStatus::Response*);
 
 void CountCandidateDefect(rrr::CandidateDefect defect,
                           rrr_slam::GetStatus::Response* status) {

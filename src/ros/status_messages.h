@@ -9,17 +9,17 @@
 #include <string>
 
 #include "rrr/graph/candidate_defect.h"
-#include "rrr/rrr/online_verifier.h"
+#include "rrr/session/session.h"
 #include "rrr_slam/GetStatus.h"
 
 namespace rrr_ros {
 
-// Sets the fields of `status` that describe `verifier`: keyframes,
-// candidates by state, those waiting for a keyframe, clusters and the noise
-// scale with its source.
+// Sets the fields of `status` that describe `session`: keyframes, sessions
+// and maps, candidates by state, those waiting for a keyframe or a robot,
+// clusters and the noise scale with its source.
 template <class Pose>
-void SetVerifierState(const rrr::OnlineVerifier<Pose>& verifier,
-                      rrr_slam::GetStatus::Response* status);
+void SetSessionState(const rrr::Session<Pose>& session,
+                     rrr_slam::GetStatus::Response* status);
 
 // Counts one skipped or refused candidate under its reason in `status`.
 void CountCandidateDefect(rrr::CandidateDefect defect,

@@ -3,6 +3,7 @@
 // by stamp); what cannot be used is counted and warned about.
 #include <mutex>
 #include <string>
+#include <utility>
 
 #include "msg_conversion.h"
 #include "rrr_slam/Keyframe.h"
@@ -10,89 +11,124 @@
 #include "verifier_node.h"
 
 namespace rrr_ros {
-namespace {
-
-// Why a message in `frame` is not in the expected frame `name` (the `role`
-// frame), or "" if it is; an empty frame is taken as the expected one.
-std::string WrongFrame(const std::string& frame, const std::string& name,
-                       const std::string& role) {
-  if (frame.empty() || frame == name) return "";
-  return "frame '" + frame + "' is not the " + role + " frame '" + name + "'";
-}
-
-}  // namespace
 
 template <class Pose>
-void VerifierNode<Pose>::Process(const nav_msgs::Odometry::ConstPtr& msg) {
-  std::string why =
-      WrongFrame(msg->header.frame_id, options_.odom_frame, "odometry");
-  if (!why.empty())
-    return status_.CountInvalid(kOdometry, msg->header.seq, why);
+void VerifierNode<Pose>::Process(const RobotOdometry& odometry) {
+  const nav_msgs::Odometry& msg = *odometry.msg;
+  const int r = odometry.robot;
+  const std::string what = RobotFrame(r, "odometry");
+  const std::string& frame = msg.header.frame_id;
+  if (!frame.empty() && frame != RobotFrame(r, options_.odom_frame) &&
+      frame != options_.odom_frame) {
+    return status_.CountInvalid(what, msg.header.seq,
+                                "frame '" + frame +
+                                    "' is not the odometry frame '" +
+                                    RobotFrame(r, options_.odom_frame) + "'");
+  }
   Pose pose;
-  if (!FromRos(msg->pose.pose, &pose, &why))
-    return status_.CountInvalid(kOdometry, msg->header.seq, why);
+  std::string why;
+  if (!FromRos(msg.pose.pose, &pose, &why)) {
+    return status_.CountInvalid(what, msg.header.seq, why);
+  }
   const auto taken = session_.AddReading(
-      {static_cast<std::int64_t>(msg->header.stamp.toNSec()), pose,
-       FromRos(msg->pose.covariance)});
+      r, {static_cast<std::int64_t>(msg.header.stamp.toNSec()), pose,
+          FromRos(msg.pose.covariance)});
   if (taken.already_recorded) {
     std::lock_guard<std::mutex> lock(status_.mutex);
     ++status_.counts.inputs_already_recorded;
     return;
   }
   if (!taken.problem.empty()) {
-    return status_.CountInvalid(kOdometry, msg->header.seq, taken.problem);
+    return status_.CountInvalid(what, msg.header.seq, taken.problem);
   }
   if (!taken.keyframe) return;
-  if (taken.id > 0) {
+  if (!taken.new_session) {
     std::lock_guard<std::mutex> lock(status_.mutex);
     ++(taken.information_from_covariance
            ? status_.counts.odometry_information_from_covariance
            : status_.counts.odometry_information_from_motion);
     status_.counts.odometry_restarts_joined += taken.restarted ? 1 : 0;
   }
+  if (taken.new_session && session_.sessions(r).size() > 1) {
+    ROS_INFO(
+        "rrr_node: %s message %u restarted the odometry: session %zu from "
+        "keyframe %lld, joined to the others by loop closures alone",
+        what.c_str(), msg.header.seq, session_.sessions(r).size() - 1,
+        static_cast<long long>(taken.id));
+  }
   if (taken.restarted) {
     ROS_WARN(
-        "rrr_node: odometry message %u is back at the origin of '%s' %.1f m "
-        "from keyframe %lld: the odometry restarted, and keyframe %lld is "
-        "joined to it by that jump, an odometry edge that did not happen. A "
-        "robot whose odometry may restart belongs in a fleet of one "
-        "(robots:=[<name>]), where a restart starts a new session",
-        msg->header.seq, options_.odom_frame.c_str(), taken.jump,
+        "rrr_node: %s message %u restarted the odometry %.1f m from keyframe "
+        "%lld; the published procedure judges one chain, so keyframe %lld is "
+        "joined to it by that jump, an odometry edge that did not happen",
+        what.c_str(), msg.header.seq, taken.jump,
         static_cast<long long>(taken.id - 1), static_cast<long long>(taken.id));
   }
   new_keyframes_ = true;
   rrr_slam::Keyframe keyframe;
-  keyframe.header.stamp = msg->header.stamp;
-  keyframe.header.frame_id = options_.odom_frame;
+  keyframe.header.stamp = msg.header.stamp;
+  keyframe.header.frame_id = RobotFrame(r, options_.odom_frame);
   keyframe.id = taken.id;
-  keyframe.pose = msg->pose.pose;
-  keyframe_pub_.publish(keyframe);
+  keyframe.pose = msg.pose.pose;
+  keyframe_pubs_[r].publish(keyframe);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::Process(
+    const rrr_slam::FleetLoopClosure::ConstPtr& msg) {
+  const uint32_t seq = msg->loop.header.seq;
+  const int from = session_.RobotIndex(msg->from_robot);
+  const int to = session_.RobotIndex(msg->to_robot);
+  for (const auto& [index, name] :
+       {std::pair(from, &msg->from_robot), {to, &msg->to_robot}}) {
+    if (index < 0) {
+      return status_.CountInvalid(
+          "fleet loop closure", seq,
+          "robot '" + *name + "' is not among the robots");
+    }
+  }
+  AddCandidate(seq, from, to, msg->loop);
 }
 
 template <class Pose>
 void VerifierNode<Pose>::Process(const rrr_slam::LoopClosure::ConstPtr& msg) {
-  const uint32_t seq = msg->header.seq;
-  std::string why =
-      WrongFrame(msg->header.frame_id, options_.base_frame, "robot");
-  if (!why.empty()) return status_.CountInvalid(kLoopClosure, seq, why);
-  if (msg->reference != rrr_slam::LoopClosure::BY_ID &&
-      msg->reference != rrr_slam::LoopClosure::BY_STAMP) {
-    return status_.CountInvalid(kLoopClosure, seq,
-                                "reference " + std::to_string(msg->reference) +
+  AddCandidate(msg->header.seq, 0, 0, *msg);
+}
+
+template <class Pose>
+void VerifierNode<Pose>::AddCandidate(uint32_t seq, int from, int to,
+                                      const rrr_slam::LoopClosure& loop) {
+  const char* what = "loop closure";
+  const std::string& frame = loop.header.frame_id;
+  if (!frame.empty() && frame != options_.base_frame &&
+      frame != RobotFrame(from, options_.base_frame) &&
+      frame != RobotFrame(to, options_.base_frame)) {
+    return status_.CountInvalid(
+        what, seq,
+        "frame '" + frame + "' is not the robot frame '" +
+            RobotFrame(from, options_.base_frame) + "'");
+  }
+  if (loop.reference != rrr_slam::LoopClosure::BY_ID &&
+      loop.reference != rrr_slam::LoopClosure::BY_STAMP) {
+    return status_.CountInvalid(what, seq,
+                                "reference " + std::to_string(loop.reference) +
                                     " is neither BY_ID nor BY_STAMP");
   }
   Pose z;
   Information information;
-  if (!FromRos(msg->relative_pose.pose, &z, &why) ||
-      !InformationFromCovariance<Pose>(msg->relative_pose.covariance,
+  std::string why;
+  if (!FromRos(loop.relative_pose.pose, &z, &why) ||
+      !InformationFromCovariance<Pose>(loop.relative_pose.covariance,
                                        &information, &why)) {
-    return status_.CountInvalid(kLoopClosure, seq, why);
+    return status_.CountInvalid(what, seq, why);
   }
-  if (msg->reference == rrr_slam::LoopClosure::BY_ID) {
-    session_.AddCandidate(seq, msg->from_id, msg->to_id, z, information);
+  if (loop.reference == rrr_slam::LoopClosure::BY_ID) {
+    session_.AddCandidate(seq, from, loop.from_id, to, loop.to_id, z,
+                          information);
   } else {
-    session_.AddCandidateByStamp(seq, msg->from_stamp.toNSec(),
-                                 msg->to_stamp.toNSec(), z, information);
+    session_.AddCandidateByStamp(
+        seq, from, static_cast<std::int64_t>(loop.from_stamp.toNSec()), to,
+        static_cast<std::int64_t>(loop.to_stamp.toNSec()), z, information);
   }
 }
 
@@ -113,15 +149,17 @@ void VerifierNode<Pose>::Skip(const rrr::SkippedMessage& skipped) {
 }
 
 // The class is instantiated in verifier_node.cc; these members here.
-template void VerifierNode<rrr::Pose2>::Process(
-    const nav_msgs::Odometry::ConstPtr&);
-template void VerifierNode<rrr::Pose2>::Process(
-    const rrr_slam::LoopClosure::ConstPtr&);
-template void VerifierNode<rrr::Pose2>::Skip(const rrr::SkippedMessage&);
-template void VerifierNode<rrr::Pose3>::Process(
-    const nav_msgs::Odometry::ConstPtr&);
-template void VerifierNode<rrr::Pose3>::Process(
-    const rrr_slam::LoopClosure::ConstPtr&);
-template void VerifierNode<rrr::Pose3>::Skip(const rrr::SkippedMessage&);
+#define RRR_INSTANTIATE_NODE_INPUTS(Pose)                          \
+  template void VerifierNode<Pose>::Process(const RobotOdometry&); \
+  template void VerifierNode<Pose>::Process(                       \
+      const rrr_slam::FleetLoopClosure::ConstPtr&);                \
+  template void VerifierNode<Pose>::Process(                       \
+      const rrr_slam::LoopClosure::ConstPtr&);                     \
+  template void VerifierNode<Pose>::AddCandidate(                  \
+      uint32_t, int, int, const rrr_slam::LoopClosure&);           \
+  template void VerifierNode<Pose>::Skip(const rrr::SkippedMessage&);
+RRR_INSTANTIATE_NODE_INPUTS(rrr::Pose2)
+RRR_INSTANTIATE_NODE_INPUTS(rrr::Pose3)
+#undef RRR_INSTANTIATE_NODE_INPUTS
 
 }  // namespace rrr_ros

@@ -3,25 +3,10 @@
 
 #include "commands.h"
 #include "output_paths.h"
-#include "rrr/session/session_store.h"
+#include "rrr/io/g2o.h"
+#include "session_file.h"
 
 namespace rrr {
-namespace {
-
-// The loops to write: every candidate with `with_rejected`, else the
-// accepted and the still pending ones.
-std::vector<int> LoopsToWrite(const SessionContents& session,
-                              bool with_rejected) {
-  std::vector<int> loops;
-  for (size_t k = 0; k < session.loop_states.size(); ++k) {
-    if (with_rejected || session.loop_states[k] != LoopState::kRejected) {
-      loops.push_back(static_cast<int>(k));
-    }
-  }
-  return loops;
-}
-
-}  // namespace
 
 void AddExportCommand(CLI::App& app) {
   auto input = std::make_shared<std::string>();
@@ -30,8 +15,9 @@ void AddExportCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "export",
       "Write the session database of rrr_node (its ~database) as a g2o file: "
-      "the keyframes (composed odometry), the odometry edges and the accepted "
-      "and pending loop candidates.");
+      "its keyframes at their corrected poses, the odometry edges and the "
+      "accepted and pending loop candidates, the decisions its recorded "
+      "updates made.");
   cmd->add_option("input", *input, "session database")
       ->required()
       ->check(CLI::ExistingFile);
@@ -41,26 +27,32 @@ void AddExportCommand(CLI::App& app) {
                 "with rrr verify)");
   cmd->callback([input, output, with_rejected] {
     CheckOutputPaths({*input}, {*output});
-    const SessionContents session = ReadSession(*input);
-    const std::vector<int> loops = LoopsToWrite(session, *with_rejected);
-    std::visit(
-        [&](const auto& graph) {
-          WriteG2oFile(graph, graph.estimates(), loops, *output);
-          std::cout << *output << ": " << graph.num_poses() << " keyframes, "
-                    << loops.size() << " of " << graph.loops().size()
-                    << " candidates (" << session.updates << " updates, "
-                    << session.procedure << " procedure)";
-        },
-        session.graph);
-    if (session.candidates_waiting > 0) {
-      std::cout << "; " << session.candidates_waiting
-                << " candidates waiting for a keyframe never recorded left out";
-    }
-    if (session.waiting_by_stamp > 0) {
-      std::cout << "; " << session.waiting_by_stamp
-                << " candidates waiting for keyframes by stamp left out";
-    }
-    std::cout << "\n";
+    // The recorded options: the decisions its updates made.
+    const RrrOptions recorded = ReadSessionDatabase(*input).options;
+    WithSessionDatabase(*input, recorded, [&](auto& session) {
+      std::vector<int> candidate_of_loop;
+      const auto graph = session.Graph(&candidate_of_loop);
+      std::vector<int> loops;
+      for (size_t k = 0; k < graph.loops().size(); ++k) {
+        if (*with_rejected || session.verifier().state(candidate_of_loop[k]) !=
+                                  LoopState::kRejected) {
+          loops.push_back(static_cast<int>(k));
+        }
+      }
+      WriteG2oFile(graph, graph.estimates(), loops, *output);
+      std::cout << *output << ": " << graph.num_poses() << " keyframes of "
+                << session.robots().size() << " robots in "
+                << session.num_chains() << " sessions, " << loops.size()
+                << " of " << graph.loops().size() << " candidates";
+      if (session.num_waiting_by_stamp() + session.num_waiting_for_robots() >
+          0) {
+        std::cout << "; "
+                  << session.num_waiting_by_stamp() +
+                         session.num_waiting_for_robots()
+                  << " candidates still waiting left out";
+      }
+      std::cout << "\n";
+    });
   });
 }
 

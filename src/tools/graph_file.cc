@@ -4,7 +4,7 @@
 #include <map>
 
 #include "rrr/io/input_error.h"
-#include "rrr/session/session_store.h"
+#include "session_file.h"
 
 namespace rrr {
 namespace {
@@ -42,18 +42,8 @@ nlohmann::json MinimizeJson(const MinimizeResult& result) {
 G2oFile LoadGraph(const std::string& path, bool strict, GraphShape shape) {
   if (LooksLikeSessionDatabase(path)) {
     G2oFile file;
-    SessionContents session = ReadSession(path);
-    if (session.candidates_waiting > 0) {
-      std::cerr << "rrr: warning: " << path << ": "
-                << session.candidates_waiting
-                << " candidates waiting for a keyframe never recorded left "
-                   "out\n";
-    }
-    if (session.waiting_by_stamp > 0) {
-      std::cerr << "rrr: warning: " << path << ": " << session.waiting_by_stamp
-                << " candidates waiting for keyframes by stamp left out\n";
-    }
-    file.graph = std::move(session.graph);
+    WithSessionDatabase(path, RrrOptions(),
+                        [&](auto& session) { file.graph = session.Graph(); });
     return file;
   }
   G2oFile file = ReadG2o(path, strict);

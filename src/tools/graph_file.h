@@ -11,12 +11,12 @@
 
 namespace rrr {
 
-// Reads `path`, a g2o file or a session database of rrr_node (ReadSession:
-// every candidate of the session, whatever its state). For g2o (see ParseG2o
-// for `strict`), warns on stderr about skipped tags, each skipped candidate
-// and each repaired information matrix (FILE:LINE and the reason), and a
-// file without vertices, and checks the graph's shape as `shape` asks. Throws
-// InputError (SessionError) naming the file otherwise.
+// Reads `path`, a g2o file or a session database of rrr_node (replayed:
+// Session::Graph() with every candidate, whatever its state). For g2o (see
+// ParseG2o for `strict`), warns on stderr about skipped tags, each skipped
+// candidate and each repaired information matrix (FILE:LINE and the reason),
+// and a file without vertices, and checks the graph's shape as `shape` asks.
+// Throws InputError (SessionError) naming the file otherwise.
 enum class GraphShape {
   kOneChain,   // one odometry chain (PoseGraph::CheckChain)
   kConnected,  // any chains, every pose reached (PoseGraph::CheckConnected)

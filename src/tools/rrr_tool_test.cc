@@ -589,7 +589,7 @@ TEST(RrrTool, ToBagWritesSeveralChainsAsAFleetsTopics) {
   const Result one =
       Rrr("to-bag " + sessions + " --robot r -o " + Tmp("sessions.bag"));
   ASSERT_EQ(one.status, 0) << one.output;
-  EXPECT_THAT(one.output, HasSubstr("of 1 robots (2 sessions)"));
+  EXPECT_THAT(one.output, HasSubstr("of 1 robot (2 sessions)"));
 }
 
 TEST(RrrTool, NeverWritesOverItsInputOrOneOutputWithAnother) {

@@ -33,7 +33,7 @@ struct ToBagArgs {
   std::string fleet_loop_topic = "fleet_loop_closures";
   std::string odom_frame = "odom", base_frame = "base_link";
   std::string covariance = "growing";
-  std::string robot = "a";
+  std::string robot;  // "": one robot, its topics without a prefix
   double restart_jump = 1.0;
 };
 
@@ -59,8 +59,9 @@ std::string OfRobot(const std::string& robot, const std::string& name) {
 
 // Names every pose of `graph` (chains `spans`). One chain: one robot, its
 // ids 0, 1, 2, ... are its keyframe ids. Several: each chain a session of
-// the robot of its first pose's GTSAM symbol (else of `args.robot`), whose
-// keyframes count on over its sessions, as rrr_node's fleet numbers them.
+// the robot of its first pose's GTSAM symbol (else of `args.robot`, "" for
+// the node's one robot), whose keyframes count on over its sessions, as
+// rrr_node numbers them.
 template <class Pose>
 std::vector<BagPose> NameThePoses(const PoseGraph<Pose>& graph,
                                   const std::vector<ChainSpan>& spans,
@@ -215,7 +216,7 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
         rrr_ros::CovarianceFromInformation<Pose>(e.information);
     loop.confidence = -1.0;
     const double time = std::max(times[e.from], times[e.to]) + 1e-6;
-    if (spans.size() == 1) {
+    if (named[e.from].robot.empty() && named[e.to].robot.empty()) {
       queue_loop(
           time, args.loop_topic, loop,
           [](rrr_slam::LoopClosure & m) -> auto& { return m.header; });
@@ -247,7 +248,8 @@ void ToBag(const PoseGraph<Pose>& graph, const ToBagArgs& args) {
   for (const BagPose& pose : named) robots.insert(pose.robot);
   std::cout << "wrote " << graph.num_poses() << " odometry messages";
   if (spans.size() > 1) {
-    std::cout << " of " << robots.size() << " robots (" << spans.size()
+    std::cout << " of " << robots.size() << " robot"
+              << (robots.size() > 1 ? "s (" : " (") << spans.size()
               << " sessions)";
   }
   std::cout << " and " << graph.loops().size() << " loop candidates ("
@@ -282,7 +284,9 @@ void AddToBagCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--robot", args->robot,
                   "the robot of the chains whose ids are not GTSAM symbols, "
-                  "in a graph of several (each chain a session of it)")
+                  "in a graph of several (each chain a session of it); "
+                  "empty: the node's one robot (robots unset), on "
+                  "--odom-topic and --loop-topic")
       ->capture_default_str();
   cmd->add_option("--restart-jump", args->restart_jump,
                   "the node's restart_jump: a session whose odometry starts "

@@ -22,6 +22,7 @@
 #include "rrr/rrr/published/batch_verifier.h"
 #include "rrr/solver/chain_maps.h"
 #include "rrr/solver/pose_graph_solver.h"
+#include "session_file.h"
 
 namespace rrr {
 namespace {
@@ -178,9 +179,45 @@ ChainMaps<Pose> MapsOfChains(const PoseGraph<Pose>& graph,
   return maps;
 }
 
+// A recorded session's decisions after Finish(), as the node's ~finish
+// makes them, over `graph` (Session::Graph); `*maintained` its estimates.
 template <class Pose>
-void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
-            const VerifyArgs& args) {
+Verdict RecordedVerdict(Session<Pose>* session, PoseGraph<Pose>* graph,
+                        MapVerifierStats* stats) {
+  session->Update(true);
+  std::vector<int> candidate_of_loop, index_of_pose;
+  *graph = session->Graph(&candidate_of_loop, &index_of_pose);
+  const OnlineVerifier<Pose>& verifier = session->verifier();
+  Verdict verdict;
+  verdict.cluster_of_loop.assign(graph->loops().size(), -1);
+  verdict.reasons.resize(graph->loops().size());
+  verdict.clusters.resize(verifier.num_clusters());
+  for (size_t k = 0; k < graph->loops().size(); ++k) {
+    const int c = candidate_of_loop[k];
+    verdict.cluster_of_loop[k] = verifier.cluster_of(c);
+    if (verdict.cluster_of_loop[k] >= 0) {
+      verdict.clusters[verdict.cluster_of_loop[k]].loops.push_back(k);
+    }
+    verdict.reasons[k] = verifier.reason(c);
+    if (verdict.reasons[k].pose >= 0) {
+      verdict.reasons[k].pose = index_of_pose[verdict.reasons[k].pose];
+    }
+    (verifier.state(c) == LoopState::kAccepted ? verdict.accepted
+                                               : verdict.rejected)
+        .push_back(static_cast<int>(k));
+  }
+  if (const auto* map = dynamic_cast<const MapVerifier<Pose>*>(&verifier)) {
+    *stats = map->stats();
+  }
+  return verdict;
+}
+
+// Judges `graph` with the method of `args`, or takes the decisions of the
+// session `recorded` replayed (its graph then `graph`), and writes the map
+// and the report.
+template <class Pose>
+void Verify(PoseGraph<Pose> graph, const nlohmann::json& input_notes,
+            const VerifyArgs& args, Session<Pose>* recorded = nullptr) {
   const auto start = std::chrono::steady_clock::now();
   PoseGraphSolver<Pose> solver(graph, args.options.iterations,
                                args.options.steps);
@@ -189,7 +226,13 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
   std::vector<Pose> map;
   MapVerifierStats stats;
   nlohmann::json chains_report;
-  if (args.method == "dcs") {
+  if (recorded) {
+    verdict = RecordedVerdict(recorded, &graph, &stats);
+    ChainMaps<Pose> chains = MapsOfChains(graph, verdict, graph.estimates());
+    if (chains.chains.size() > 1) chains_report = ChainsJson(graph, chains);
+    map = std::move(chains.estimates);
+    final_map = chains.minimized.front();
+  } else if (args.method == "dcs") {
     verdict = VerifyWithDcs(graph, DcsOptions(), &map, &final_map);
   } else if (args.method == "gnc") {
     verdict = VerifyWithGncTls(graph, GncTlsOptions(), &map, &final_map);
@@ -251,7 +294,10 @@ void Verify(const PoseGraph<Pose>& graph, const nlohmann::json& input_notes,
       {"map_radius", args.options.map_radius},
       {"map_junctions", args.options.map_junctions}};
   report["final_optimization"] = MinimizeJson(final_map);
-  if (args.method == "rrr" && args.options.procedure == Procedure::kMap) {
+  if (args.method == "rrr" &&
+      (recorded ? dynamic_cast<const MapVerifier<Pose>*>(
+                      &recorded->verifier()) != nullptr
+                : args.options.procedure == Procedure::kMap)) {
     report["map_procedure"] = {{"own_solves", stats.own_solves},
                                {"trials", stats.trials},
                                {"quick_accepts", stats.quick_accepts},
@@ -370,6 +416,14 @@ void AddVerifyCommand(CLI::App& app) {
       shape = GraphShape::kAnyChains;
     } else if (args->method == "dcs" || args->method == "gnc") {
       shape = GraphShape::kConnected;
+    }
+    // A node's session database is judged as the node judged it: its
+    // inputs replayed in their order, then ~finish.
+    if (args->method == "rrr" && LooksLikeSessionDatabase(args->input)) {
+      WithSessionDatabase(args->input, args->options, [&](auto& session) {
+        Verify(session.Graph(), nlohmann::json::object(), *args, &session);
+      });
+      return;
     }
     const G2oFile file = LoadGraph(args->input, args->strict, shape);
     const nlohmann::json notes = InputNotes(file);

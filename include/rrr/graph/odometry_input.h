@@ -11,7 +11,7 @@
 namespace rrr {
 
 // The options of one robot's odometry stream, the same for a robot alone
-// (RobotSession) and for each robot of a fleet (Fleet).
+// and for each robot of a fleet (Session).
 struct OdometryInputOptions {
   // A reading makes a keyframe when it moved more than these from the
   // newest (both 0: every reading does); see KeyframeTrack.

@@ -86,7 +86,8 @@ class OnlineVerifier {
   // Judges everything now, as at the end of a run; returns the changes.
   virtual std::vector<DecisionChange> Finish() = 0;
   // The estimate of every pose of graph() with odometry and the accepted
-  // loops, optimized.
+  // loops, optimized. Reading the map changes no decision: they depend on
+  // the inputs and the calls of Update() and Finish() alone.
   virtual std::vector<Pose> Map() = 0;
   // The estimates of `poses` (pose indices of graph()) in Map(). By default
   // Map() picked; a verifier may answer without computing the other poses.
@@ -116,6 +117,9 @@ class OnlineVerifier {
 
   // Whether the procedure judges several odometry chains.
   virtual bool JudgesSeveralChains() const { return false; }
+  // The map chain `chain` is in: the lowest chain joined with it by the
+  // accepted loops (itself if none; one chain is its own map).
+  virtual int MapOfChain(int chain) const { return chain; }
 
   // The poses, odometry and candidates given, in arrival order: the chains'
   // poses interleave as they came.

@@ -91,6 +91,14 @@ struct RrrOptions {
   std::string Validate() const;
 };
 
+// The options as one line of `name=value` pairs, every field, doubles to
+// the last bit: what a session database records. ParseOptionsText reads it
+// back (a name it does not list keeps its default) and throws
+// std::invalid_argument naming a pair that is not `name=value`, an unknown
+// name or a value that is not one.
+std::string OptionsText(const RrrOptions& options);
+RrrOptions ParseOptionsText(const std::string& text);
+
 }  // namespace rrr
 
 #endif  // RRR_RRR_OPTIONS_H_

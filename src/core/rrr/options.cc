@@ -1,5 +1,13 @@
 #include "rrr/rrr/options.h"
 
+#include <cstdio>
+#include <functional>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
 namespace rrr {
 
 std::string RrrOptions::Validate() const {
@@ -70,6 +78,138 @@ bool ParseProcedure(const std::string& name, Procedure* procedure) {
     return false;
   }
   return true;
+}
+
+namespace {
+
+// Each option's name with a way to write it and to read it.
+struct Field {
+  const char* name;
+  std::function<std::string(const RrrOptions&)> write;
+  std::function<bool(const std::string&, RrrOptions*)> read;
+};
+
+std::string Exact(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", v);
+  return text;
+}
+
+template <class T>
+bool ReadNumber(const std::string& text, T* value) {
+  std::istringstream in(text);
+  T v;
+  if (!(in >> v) || !in.eof()) return false;
+  *value = v;
+  return true;
+}
+
+template <class T>
+Field NumberField(const char* name, T RrrOptions::*member) {
+  return {name,
+          [member](const RrrOptions& o) {
+            if constexpr (std::is_floating_point_v<T>) {
+              return Exact(o.*member);
+            } else {
+              return std::to_string(o.*member);
+            }
+          },
+          [member](const std::string& t, RrrOptions* o) {
+            return ReadNumber(t, &(o->*member));
+          }};
+}
+
+const std::vector<Field>& Fields() {
+  static const std::vector<Field> fields = {
+      {"procedure",
+       [](const RrrOptions& o) { return std::string(ToString(o.procedure)); },
+       [](const std::string& t, RrrOptions* o) {
+         return ParseProcedure(t, &o->procedure);
+       }},
+      NumberField("cluster_window", &RrrOptions::cluster_window),
+      NumberField("iterations", &RrrOptions::iterations),
+      {"steps",
+       [](const RrrOptions& o) {
+         return std::string(o.steps == SolveSteps::kGaussNewton
+                                ? "gauss_newton"
+                                : "trust_region");
+       },
+       [](const std::string& t, RrrOptions* o) {
+         if (t != "gauss_newton" && t != "trust_region") return false;
+         o->steps = t == "gauss_newton" ? SolveSteps::kGaussNewton
+                                        : SolveSteps::kTrustRegion;
+         return true;
+       }},
+      NumberField("alpha", &RrrOptions::alpha),
+      {"span_gate",
+       [](const RrrOptions& o) { return std::string(o.span_gate ? "1" : "0"); },
+       [](const std::string& t, RrrOptions* o) {
+         if (t != "0" && t != "1") return false;
+         o->span_gate = t == "1";
+         return true;
+       }},
+      NumberField("threads", &RrrOptions::threads),
+      NumberField("max_future_poses", &RrrOptions::max_future_poses),
+      NumberField("max_waiting", &RrrOptions::max_waiting),
+      NumberField("decision_delay", &RrrOptions::decision_delay),
+      NumberField("noise_scale", &RrrOptions::noise_scale),
+      NumberField("noise_margin", &RrrOptions::noise_margin),
+      NumberField("map_radius", &RrrOptions::map_radius),
+      NumberField("map_junctions", &RrrOptions::map_junctions),
+      NumberField("optimize_every", &RrrOptions::optimize_every),
+      NumberField("optimize_growth", &RrrOptions::optimize_growth),
+      {"max_iterations",
+       [](const RrrOptions& o) {
+         return std::to_string(o.convergence.max_iterations);
+       },
+       [](const std::string& t, RrrOptions* o) {
+         return ReadNumber(t, &o->convergence.max_iterations);
+       }},
+      {"relative_decrease",
+       [](const RrrOptions& o) {
+         return Exact(o.convergence.relative_decrease);
+       },
+       [](const std::string& t, RrrOptions* o) {
+         return ReadNumber(t, &o->convergence.relative_decrease);
+       }},
+  };
+  return fields;
+}
+
+}  // namespace
+
+std::string OptionsText(const RrrOptions& options) {
+  std::string text;
+  for (const Field& f : Fields()) {
+    if (!text.empty()) text += ' ';
+    text += std::string(f.name) + "=" + f.write(options);
+  }
+  return text;
+}
+
+RrrOptions ParseOptionsText(const std::string& text) {
+  RrrOptions options;
+  std::istringstream in(text);
+  std::string pair;
+  while (in >> pair) {
+    const size_t equals = pair.find('=');
+    if (equals == std::string::npos) {
+      throw std::invalid_argument("options: '" + pair + "' is not name=value");
+    }
+    const std::string name = pair.substr(0, equals);
+    const std::string value = pair.substr(equals + 1);
+    bool known = false;
+    for (const Field& f : Fields()) {
+      if (name != f.name) continue;
+      known = true;
+      if (!f.read(value, &options)) {
+        throw std::invalid_argument("options: " + name + "=" + value +
+                                    ": not a value of " + name);
+      }
+    }
+    if (!known) throw std::invalid_argument("options: unknown option " + name);
+  }
+  return options;
 }
 
 }  // namespace rrr

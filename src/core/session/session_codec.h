@@ -104,27 +104,35 @@ inline Pose3 DecodePose(const std::vector<double>& v, const Pose3*,
   return Pose3(q, Eigen::Vector3d(v[4], v[5], v[6]));
 }
 
+// An information matrix from `column` of `row`, or fails naming the row
+// `at`: non-finite values, a matrix that is not symmetric positive definite.
+template <class Pose>
+typename Constraint<Pose>::Information DecodeInformation(
+    const SqliteDb& db, const SqliteStatement& row, int column,
+    const std::string& at) {
+  const typename Constraint<Pose>::Information information =
+      FiniteMatrix<Pose::kDof>(db, row, column, "an information matrix", at);
+  const bool symmetric = (information - information.transpose()).norm() <=
+                         1e-9 * information.norm();
+  if (!symmetric || information.llt().info() != Eigen::Success) {
+    db.Fail(at + "an information matrix is not symmetric positive definite");
+  }
+  return information;
+}
+
 // A measurement and its information matrix from `columns` (pose, matrix)
-// of `row`, or fails naming the row `at`: non-finite values, a matrix that
-// is not symmetric positive definite.
+// of `row`, or fails naming the row `at` (DecodeInformation).
 template <class Pose>
 void DecodeMeasurement(const SqliteDb& db, const SqliteStatement& row,
                        int pose_column, int information_column,
                        const std::string& at, Pose* z,
                        typename Constraint<Pose>::Information* information) {
-  constexpr int kDof = Pose::kDof;
   const auto fail = [&](const std::string& problem) { db.Fail(at + problem); };
   *z = DecodePose(FiniteDoubles(db, row, pose_column,
                                 EncodedSize(static_cast<const Pose*>(nullptr)),
                                 "a measurement", at),
                   static_cast<const Pose*>(nullptr), fail);
-  *information = FiniteMatrix<kDof>(db, row, information_column,
-                                    "an information matrix", at);
-  const bool symmetric = (*information - information->transpose()).norm() <=
-                         1e-9 * information->norm();
-  if (!symmetric || information->llt().info() != Eigen::Success) {
-    fail("an information matrix is not symmetric positive definite");
-  }
+  *information = DecodeInformation<Pose>(db, row, information_column, at);
 }
 
 }  // namespace rrr

@@ -132,13 +132,18 @@ void MaintainedMap<Pose>::Restore(ByteReader* in) {
   last_trial_->radius = static_cast<int>(in->Int("the kept trial's radius"));
   last_trial_->estimate.resize(
       in->Count("the kept trial's estimate", sizeof(typename Pose::Parts)));
+  // A trial places junctions and its loops' ends, which are junctions only
+  // while it runs (KeepTrial makes them junctions again).
+  const std::vector<int> trial_ends = PosesTouched(graph_, last_trial_->loops);
   for (auto& [pose, x] : last_trial_->estimate) {
     pose = checked_pose(in->Int("a kept trial's pose"));
     x = in->template PoseParts<Pose>("a kept trial's estimate");
-    if (junctions_.count(chains_.Key(pose)) == 0) {
+    if (junctions_.count(chains_.Key(pose)) == 0 &&
+        !std::binary_search(trial_ends.begin(), trial_ends.end(), pose)) {
       throw std::runtime_error("the kept trial places pose " +
                                std::to_string(pose) +
-                               ", which is not a junction");
+                               ", which is neither a junction nor an end of "
+                               "its loops");
     }
   }
 }

@@ -7,6 +7,7 @@
 #include "../testing/noisy_chain.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/geometry/pose3.h"
+#include "rrr/io/byte_stream.h"
 #include "rrr/solver/edge_error.h"
 #include "rrr/solver/pose_graph_solver.h"
 
@@ -365,6 +366,27 @@ TEST(MaintainedMap, KeepTrialAddsTheLoopsWithTheTrialsEstimate) {
   kept.Try({2}, 3);
   kept.Optimize();
   EXPECT_THROW(kept.KeepTrial(1e-9), std::logic_error);
+}
+
+TEST(MaintainedMap, AKeptTrialSavedBeforeItIsKeptIsKeptAlikeAfterRestore) {
+  const auto graph = Revisits<Pose2>();
+  const ChainOdometry<Pose2> chain = ChainOdometryOf(graph);
+  MaintainedMap<Pose2> map(graph, chain, kTight, kAnyRegion),
+      restored(graph, chain, kTight, kAnyRegion);
+  map.Add({0, 1}, 100, 1e-9);
+  // The trial's loop ends (poses 140 and 266) are junctions only while it
+  // runs; the saved trial still places them.
+  map.Try({2}, 100);
+  ByteWriter out;
+  map.Save(&out);
+  ByteReader in(out.bytes());
+  restored.Restore(&in);
+  map.KeepTrial(1e-9);
+  restored.KeepTrial(1e-9);
+  EXPECT_TRUE(restored.Contains(2));
+  for (const int pose : {10, 140, 266, 400}) {
+    EXPECT_EQ(restored.Estimate(pose).parts(), map.Estimate(pose).parts());
+  }
 }
 
 TEST(MaintainedMap, RemovingALoopRestoresTheMapWithoutIt) {

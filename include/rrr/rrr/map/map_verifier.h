@@ -102,9 +102,8 @@ class MapVerifier : public OnlineVerifier<Pose> {
     return static_cast<int>(clustering_.clusters().size());
   }
   DecisionReason reason(int candidate) const override;
-  // The map chain `chain` is in: the lowest chain joined with it (itself if
-  // none), as of the last update.
-  int MapOfChain(int chain) const {
+  // As of the last update.
+  int MapOfChain(int chain) const override {
     return map_ && chain < map_->num_chains() ? map_->MapOf(chain) : chain;
   }
   // The counters, and the scales as of the newest pose.

@@ -229,14 +229,15 @@ void MapVerifier<Pose>::JudgeReady(int newest, bool finish) {
 
 template <class Pose>
 std::vector<Pose> MapVerifier<Pose>::Map() {
-  Catch(this->graph().num_poses() - 1);
+  // Only what Judge() took in: a loop taken in early would change decisions.
+  Catch(judged_until_);
   if (!map_) return {};
   return map_->Estimates(options_.threads);
 }
 
 template <class Pose>
 std::vector<Pose> MapVerifier<Pose>::MapAt(const std::vector<int>& poses) {
-  Catch(this->graph().num_poses() - 1);
+  Catch(judged_until_);
   std::vector<Pose> out;
   out.reserve(poses.size());
   for (const int p : poses) {

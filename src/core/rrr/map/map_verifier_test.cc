@@ -193,6 +193,31 @@ TEST(MapVerifier, DecisionsDoNotDependOnWhenUpdatesRun) {
   EXPECT_EQ(batch, every_pose.Accepted());
 }
 
+TEST(MapVerifier, ReadingTheMapChangesNoDecision) {
+  // Loops come up to two poses after their later pose, as on another topic;
+  // a node reads the newest pose's estimate (for tf) after every update, and
+  // the whole map at times.
+  const SimulatedWorld w = World(1500, 40, 3);
+  const RrrOptions options;
+  const Replay unread(w.graph, options, 1, 2);
+  MapVerifier<Pose2> read(options);
+  int updates = 0;
+  FeedInArrivalOrder(
+      w.graph, &read, 1,
+      [&](const std::vector<DecisionChange>&) {
+        read.MapAt({read.graph().num_poses() - 1});
+        if (++updates % 50 == 0) read.Map();
+      },
+      2);
+  ASSERT_FALSE(unread.Accepted().empty());
+  ASSERT_EQ(read.num_candidates(), unread.verifier.num_candidates());
+  for (int c = 0; c < read.num_candidates(); ++c) {
+    EXPECT_EQ(read.state(c), unread.verifier.state(c)) << c;
+    EXPECT_EQ(read.reason(c).statistic, unread.verifier.reason(c).statistic)
+        << c;
+  }
+}
+
 // Laps of a circle of kLap poses, exact odometry that is stiff in
 // translation, with the given rotation information. Loops are added as
 // `(a, b, measured as the truth of (a, b + shift))`, stiff in both.
