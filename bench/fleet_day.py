@@ -20,6 +20,7 @@ import json
 import os
 import pathlib
 import signal
+import sqlite3
 import subprocess
 import sys
 import time
@@ -99,15 +100,21 @@ def main():
         resumed = wait_for(lambda: service(env, "/rrr_node/get_status", timeout=120), 600, "the resume",
                            period=0.1)
         resume_seconds = time.time() - began
-        # Each robot's keyframe k is at 1 + k / rate: play on from the
-        # robots' last recorded keyframe (those before are not taken again).
-        kept = int(resumed["resumed_keyframes"]) // 4
-        player = start(ROSBAG_PLAY + ["-r", str(args.play), "-s", f"{max(kept - 2, 0) / args.rate:.3f}",
+        # Each robot's keyframe k is at 1 + k / rate: play on from a second
+        # before the first robot's last recorded keyframe (what the node has
+        # is not taken again: keyframes by stamp, candidates as duplicates),
+        # so that a candidate whose topic lagged the odometry comes again.
+        with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
+            kept = min(n for (n,) in db.execute(
+                "SELECT max(number) FROM inputs WHERE kind IN (0, 1) GROUP BY robot"))
+        player = start(ROSBAG_PLAY + ["-r", str(args.play), "-s", f"{max(kept - args.rate, 0) / args.rate:.3f}",
                                       str(bag)], env, log)
-        final = {}
+        final, longest = {}, []  # (keyframes, longest update so far) at each sample
 
         def everything():
             final.update(service(env, "/rrr_node/get_status", timeout=60))
+            if final:
+                longest.append((int(final["keyframes"]), float(final["max_update_seconds"]) * 1e3))
             return int(final.get("keyframes", 0)) == 4 * per_robot and final.get("queue_length") == "0"
         wait_for(everything, 4 * args.poses / args.rate / args.play + 600, "every keyframe", period=1.0)
         stop(player)
@@ -131,6 +138,7 @@ def main():
         fields = line.split()
         if line.startswith("# DECISION") and fields[4] == "accepted":
             node_accepted.add(frozenset(tuple(f.split(":")) for f in fields[2:4]))
+    (out / "verify").mkdir(exist_ok=True)
     report, verify_seconds, _ = common.verify(world, 10, out / "verify")
     names = fleet_names(world)
     verify_accepted = {frozenset((names[i][0], str(names[i][1])) for i in d["pair"])
@@ -139,9 +147,12 @@ def main():
     summary = {
         "keyframes": int(final["keyframes"]), "candidates": int(final["candidates"]),
         "before_kill": first, "after_resume": second,
+        "longest_update_reached_at_keyframes": next((k for k, m in longest if m >= second["max_ms"]), None),
         "resume_seconds": resume_seconds, "resumed_keyframes": int(resumed["resumed_keyframes"]),
         "resumed_from_update": int(resumed["resumed_from_update"]),
         "inputs_dropped": int(final["inputs_dropped"]), "invalid_messages": int(final["invalid_messages"]),
+        "inputs_already_recorded": int(final["inputs_already_recorded"]),
+        "skipped_duplicates": int(final["skipped_duplicates"]),
         "peak_rss_mb": peak, "database_mb": size / 1e6,
         "accepted_node": len(node_accepted), "accepted_verify": len(verify_accepted),
         "same_decisions": node_accepted == verify_accepted, "verify_seconds": verify_seconds,

@@ -54,6 +54,7 @@ void WriteSession(const rrr::PoseGraph<Pose>& graph,
   options.database = path.string();
   options.checkpoint_keyframes = 50;
   rrr::Session<Pose> session(robots, options, nullptr);
+  session.Resume();
   const int n = static_cast<int>(robots.size());
   const int part = graph.num_poses() / n;
   constexpr std::int64_t kSecond = 1000000000;

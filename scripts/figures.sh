@@ -26,7 +26,7 @@ for figure in "${figures[@]}"; do
       bench/join_families.py --out bench/out/join_families
       bench/plot_families.py bench/out/join_families/results.json "$IMAGES/join_families.png" ;;
     time_vs_size)
-      bench/time_vs_size.py --out bench/out/time_vs_size
+      bench/time_vs_size.py --poses 1000 3000 10000 30000 --timeout 200 --out bench/out/time_vs_size
       cp bench/out/time_vs_size/time_vs_size.png "$IMAGES/" ;;
     node_mission)
       bench/node_scaling.py --world 100000 --outliers 2000 --play 4 --database --procedures map \

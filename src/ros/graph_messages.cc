@@ -196,10 +196,10 @@ visualization_msgs::MarkerArray GraphMarkers(rrr::Session<Pose>& session,
     }
     array.markers.push_back(path);
   }
-  // Loops whose two ends are in one map, by map and state.
+  // Loops whose two ends are in one map, by map (its lowest chain) and
+  // state; a chain that is no map (any more) deletes what it showed.
   std::map<std::pair<int, rrr::LoopState>, Marker> loops;
   for (int c = 0; c < session.num_chains(); ++c) {
-    if (session.MapOfChain(c) != c) continue;
     for (const rrr::LoopState state :
          {rrr::LoopState::kAccepted, rrr::LoopState::kRejected,
           rrr::LoopState::kPending}) {

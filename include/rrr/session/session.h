@@ -67,7 +67,8 @@ struct SkippedMessage {
 // session opened again on it takes up where the last one stopped: each
 // robot's readings stamped at or before its last recorded one are not taken
 // again, and the next continue its session (or start one, by the rule
-// above). Not thread-safe: one owner calls every method.
+// above). With a database, Resume() comes before any input. Not
+// thread-safe: one owner calls every method.
 template <class Pose>
 class Session {
  public:
@@ -220,6 +221,9 @@ class Session {
   const Chain& ChainHolding(int robot, PoseId id) const;
   void Skip(std::int64_t message, CandidateDefect defect,
             const std::string& why);
+  // Throws std::logic_error for an input before Resume() with a database:
+  // it would not be recorded.
+  void RequireResumed() const;
   // Adds the candidates that waited for robots that have keyframes now, and
   // those by stamp whose keyframes are settled.
   void AddWaiting();

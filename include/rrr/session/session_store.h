@@ -57,10 +57,14 @@ struct SessionDatabase {
   RrrOptions options;               // the options it was recorded under
 };
 
+// Why `robots` cannot name a session's robots ("" if they can): none, a
+// name twice, or an empty name among several.
+std::string RobotNamesProblem(const std::vector<std::string>& robots);
+
 // Reads what the session database at `path` was recorded for (read only).
 // Throws SessionError naming the file if it is not a session database of
-// this schema version, names no robot, or names a procedure that is not
-// one or cannot judge its robots.
+// this schema version, its robots are not a session's (RobotNamesProblem),
+// or its options are not usable or cannot judge its robots.
 SessionDatabase ReadSessionDatabase(const std::string& path);
 
 // True if the file at `path` starts as an SQLite database does.

@@ -42,15 +42,8 @@ Session<Pose>::Session(std::vector<std::string> robots,
       resumed_until_ns_(robots_.size(), -1),
       by_stamp_(options.rrr.max_waiting) {
   TrackOf<Pose>(options.odometry);  // validates the keyframe options
-  if (robots_.empty()) throw std::invalid_argument("a session needs a robot");
-  for (size_t r = 0; r < robots_.size(); ++r) {
-    if (robots_.size() > 1 && robots_[r].empty()) {
-      throw std::invalid_argument("robot " + std::to_string(r) +
-                                  " of a fleet has an empty name");
-    }
-    if (std::count(robots_.begin(), robots_.end(), robots_[r]) > 1) {
-      throw std::invalid_argument("robot '" + robots_[r] + "' is named twice");
-    }
+  if (const std::string bad = RobotNamesProblem(robots_); !bad.empty()) {
+    throw std::invalid_argument(bad);
   }
   if (robots_.size() > 1 && !verifier_->JudgesSeveralChains()) {
     throw std::invalid_argument(
@@ -89,6 +82,7 @@ int Session<Pose>::RobotIndex(const std::string& name) const {
 template <class Pose>
 typename Session<Pose>::Taken Session<Pose>::AddReading(
     int robot, const KeyframeRecord<Pose>& reading) {
+  RequireResumed();
   const std::optional<KeyframeRecord<Pose>>& last = last_reading_.at(robot);
   Taken taken;
   if (reading.stamp_ns <= resumed_until_ns_[robot]) {
@@ -181,6 +175,7 @@ template <class Pose>
 void Session<Pose>::AddCandidate(std::int64_t message, int robot_a, PoseId id_a,
                                  int robot_b, PoseId id_b, const Pose& z,
                                  const Information& information) {
+  RequireResumed();
   if (sessions_.at(robot_a).empty() || sessions_.at(robot_b).empty()) {
     if (static_cast<int>(for_robots_.size()) >= options_.rrr.max_waiting) {
       return Skip(message, CandidateDefect::kWaitingFull,
@@ -221,6 +216,7 @@ void Session<Pose>::AddCandidateByStamp(std::int64_t message, int robot_a,
                                         std::int64_t stamp_a, int robot_b,
                                         std::int64_t stamp_b, const Pose& z,
                                         const Information& information) {
+  RequireResumed();
   sessions_.at(robot_a);
   sessions_.at(robot_b);
   if (by_stamp_.full()) {
@@ -288,6 +284,7 @@ void Session<Pose>::AddWaiting() {
 
 template <class Pose>
 typename Session<Pose>::Updated Session<Pose>::Update(bool finish) {
+  RequireResumed();
   Updated updated;
   updated.changes = finish ? verifier_->Finish() : verifier_->Update();
   if (store_) {
@@ -304,6 +301,15 @@ typename Session<Pose>::Updated Session<Pose>::Update(bool finish) {
   }
   map_stale_ = true;
   return updated;
+}
+
+template <class Pose>
+void Session<Pose>::RequireResumed() const {
+  if (!options_.database.empty() && !store_) {
+    throw std::logic_error(
+        "a session with a database takes no input before "
+        "Resume()");
+  }
 }
 
 template <class Pose>

@@ -1,6 +1,9 @@
 #include "session_schema.h"
 
+#include <algorithm>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "rrr/session/session_store.h"
 
@@ -85,6 +88,19 @@ bool LooksLikeSessionDatabase(const std::string& path) {
   return in && std::string(header, 15) == "SQLite format 3";
 }
 
+std::string RobotNamesProblem(const std::vector<std::string>& robots) {
+  if (robots.empty()) return "a session needs a robot";
+  for (size_t r = 0; r < robots.size(); ++r) {
+    if (robots.size() > 1 && robots[r].empty()) {
+      return "robot " + std::to_string(r) + " of a fleet has an empty name";
+    }
+    if (std::count(robots.begin(), robots.end(), robots[r]) > 1) {
+      return "robot '" + robots[r] + "' is named twice";
+    }
+  }
+  return "";
+}
+
 SessionDatabase ReadSessionDatabase(const std::string& path) {
   if (!std::ifstream(path)) throw SessionError(path, "cannot be opened");
   SqliteDb db(path, false);
@@ -96,12 +112,18 @@ SessionDatabase ReadSessionDatabase(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     db.Fail(std::string("its recorded ") + e.what());
   }
+  if (const std::string bad = contents.options.Validate(); !bad.empty()) {
+    db.Fail("its recorded options: " + bad);
+  }
   if (!ParseProcedure(procedure, &contents.options.procedure)) {
     db.Fail("the unknown procedure '" + procedure + "'");
   }
   SqliteStatement names(&db, "SELECT name FROM robots ORDER BY robot");
   while (names.Step()) contents.robots.push_back(names.Text(0));
-  if (contents.robots.empty()) db.Fail("it names no robot");
+  if (const std::string bad = RobotNamesProblem(contents.robots);
+      !bad.empty()) {
+    db.Fail("its robots: " + bad);
+  }
   if (contents.robots.size() > 1 &&
       contents.options.procedure != Procedure::kMap) {
     db.Fail("the " + procedure + " procedure judges one robot, not " +

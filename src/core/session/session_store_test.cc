@@ -323,6 +323,11 @@ TEST_F(SessionStoreTest, RecordsTheOptionsItsDecisionsWereMadeUnder) {
   const std::string error = ErrorOf([&] { ReadSessionDatabase(path_); });
   EXPECT_THAT(error, HasSubstr(path_));
   EXPECT_THAT(error, HasSubstr("unknown option windy"));
+  Tamper(path_,
+         "UPDATE meta SET value = 'cluster_window=0' "
+         "WHERE key = 'options'");
+  EXPECT_THAT(ErrorOf([&] { ReadSessionDatabase(path_); }),
+              HasSubstr("cluster_window must be at least 1"));
 }
 
 TEST_F(SessionStoreTest, RefusesWhatItCannotResume) {

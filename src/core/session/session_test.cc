@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../testing/chain_worlds.h"
+#include "../testing/scratch_dir.h"
 #include "rrr/geometry/pose2.h"
 #include "rrr/io/g2o.h"
 #include "rrr/solver/pose_graph_solver.h"
@@ -274,6 +275,20 @@ TEST(Session, TwoRobotsJoinedByTheirLoopsShareOneMapFrame) {
                 .norm(),
             1e-9);
   EXPECT_EQ(session.AcceptedGraph(1).graph.num_poses(), 0) << "not a map";
+}
+
+TEST(Session, WithADatabaseTakesNoInputBeforeResume) {
+  testing::ScratchDir dir;
+  SessionOptions options;
+  options.database = dir.File("session.db");
+  Session<Pose2> session({""}, options, nullptr);
+  KeyframeRecord<Pose2> reading;
+  reading.stamp_ns = 1;
+  EXPECT_THROW(session.AddReading(0, reading), std::logic_error);
+  EXPECT_THROW(session.Update(false), std::logic_error);
+  session.Resume();
+  EXPECT_TRUE(session.AddReading(0, reading).keyframe);
+  EXPECT_EQ(session.Update(false).store_error, "");
 }
 
 TEST(Session, SkipsACandidateItCannotJudgeWithItsReason) {
