@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """A false revisit inside one session that only the other session refutes
-(BENCHMARKS.md, "A false revisit inside a chain").
+("A false revisit inside a chain", in the git history of BENCHMARKS.md).
 
 Each world is `rrr simulate` (a grid city, no false loops) of --poses poses
 cut into two sessions at its middle (bench/chains.py's cut). Inside the

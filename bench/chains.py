@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""One graph as several odometry chains (BENCHMARKS.md, "Several odometry
-chains"): each dataset (synthetic/ or more/) spoiled with false loops (rrr
+"""One graph as several odometry chains ("Several odometry chains", in the
+git history of BENCHMARKS.md): each dataset (synthetic/ or more/) spoiled with false loops (rrr
 spoil, as bench/spoiled_synthetic.py), then cut into N chains of equal
 length: the odometry edge into each cut's first pose removed and every later
 chain's vertex estimates moved by a rigid transform (a session whose

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The map procedure over several chains over time, as a fleet's node runs it
-(BENCHMARKS.md, "Several chains over time"): each dataset (synthetic/ or more/) cut into
+("Several chains over time", in the git history of BENCHMARKS.md): each dataset (synthetic/ or more/) cut into
 N chains (as bench/chains.py cuts it), with false loops between the chains
 (rrr spoil --between-chains), fed by bench/chains_online.cc robot by robot
 side by side with an update after every pose. Prints the update times

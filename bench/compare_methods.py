@@ -36,7 +36,7 @@ METHODS = {
 }
 
 
-# The spoiled-set matrix of BENCHMARKS.md ("Every spoiled set"): 108 sets.
+# The spoiled-set matrix of BENCHMARKS.md ("Spoiled synthetic sets, every method"): 108 sets.
 MATRIX = dict(datasets=["manhattanOlson3500", "intel", "city10000", "sphere2500"],
               outliers=[100, 500, 1000], kinds=["random", "local", "grouped"], group=10,
               seeds=[1, 2, 3], window=10)

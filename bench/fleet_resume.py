@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""A fleet's session database (BENCHMARKS.md, "A fleet's session database"):
+"""A fleet's session database ("A fleet's session database", in the git history of BENCHMARKS.md):
 launch/fleet.launch with three simulated robots at --rate Hz records its
 database while they drive --poses keyframes in all; after ~finish the node
 stops, and a node started on the database resumes it. Prints the database's

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Simulated fleets (BENCHMARKS.md, "Several odometry chains"): `rrr simulate
+"""Simulated fleets ("Several odometry chains", in the git history of BENCHMARKS.md): `rrr simulate
 --robots N` lets N robots drive one path in turn, each its own odometry chain
 (keys as GTSAM symbols), with true loops within and between robots and the
 simulator's own false loops; `rrr spoil --between-chains` adds false loops

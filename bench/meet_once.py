@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Two robots that meet once (BENCHMARKS.md, "Several odometry chains"):
+"""Two robots that meet once ("Several odometry chains", in the git history of BENCHMARKS.md):
 a dataset (synthetic/ or more/) cut into two chains (bench/chains.py's cut: the
 odometry edge at the middle removed, the second chain's estimates moved),
 of the loops between the chains only one revisit kept (the largest set of

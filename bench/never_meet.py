@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Two robots that never meet (BENCHMARKS.md, "Several odometry chains"):
+"""Two robots that never meet ("Several odometry chains", in the git history of BENCHMARKS.md):
 two different 2D datasets made one graph of two odometry chains (the
 second's ids after the first's, its estimates moved 10 km away), then
 `rrr spoil --between-chains` draws false loops between them (random,

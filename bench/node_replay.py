@@ -9,7 +9,7 @@ loops equal rrr verify's on the same file.
     bench/node_replay.py --g2o FLEET.g2o --robots "[a, b, c]" --restart-jump 5 --window 10
 
 A file of several odometry chains (robots as GTSAM symbols) plays as a
-fleet's bag (README, "Replaying a fleet's graph") into the node serving
+fleet's bag (doc/node.md, "Replaying a fleet's graph") into the node serving
 `--robots`; its decisions are compared with rrr verify's by robot and
 keyframe id.
 """

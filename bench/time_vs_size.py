@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Time against graph size (BENCHMARKS.md, "Speed and scale"): built-in grid
+"""Time against graph size (BENCHMARKS.md, "Speed, one chain"): built-in grid
 worlds (rrr simulate) of 1,000 to 100,000 poses, each with false loops in
 groups of 4 (one per 20 poses), judged by each method of rrr verify; the
 wall time of the whole verification (rrr verify's `seconds`) against the

@@ -31,7 +31,7 @@ from world_files import generated_and_bicocca, loop_pairs  # noqa: E402
 
 BUILD = pathlib.Path(os.environ.get("RRR_BUILD_DIR", ROOT / "_build"))
 RRR = BUILD / "devel" / "lib" / "rrr_slam" / "rrr"
-MEMORY_BOUND_MB = 200.0  # README, "Limits"
+MEMORY_BOUND_MB = 200.0  # doc/node.md, "Resuming a session" (limits)
 FLOOD_CANDIDATES = 100000
 
 

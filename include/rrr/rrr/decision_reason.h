@@ -6,7 +6,7 @@
 
 namespace rrr {
 
-// The tests of the map procedure (README, "The rule"). Each compares an
+// The tests of the map procedure (doc/rule.md). Each compares an
 // error with a gate s·χ²(α, dof).
 enum class DecisionTest {
   // Not judged yet, or judged by a procedure that records no reasons.

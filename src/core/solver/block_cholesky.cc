@@ -169,14 +169,15 @@ BlockCholesky<D>::BlockCholesky(
   // Most pose-graph factors have tiny supernodes, and Debian's supernodal
   // kernel enters OpenMP regions per supernode: simplicial unless the
   // factorization is heavy (flops / nnz(L) >= 200, e.g. dense 3D graphs),
-  // where supernodal with BLAS wins (BENCHMARKS.md, "Factorization").
+  // where supernodal with BLAS wins ("Factorization", in the git history of
+  // BENCHMARKS.md).
   common_->supernodal = CHOLMOD_AUTO;
   common_->supernodal_switch = 200;
   // Supernodes merged up to four times larger than CHOLMOD's defaults, which
   // count scalar columns and so merge little beyond a pose's own D: BLAS on
   // the larger ones runs faster than the explicit zeros they add cost (a
   // whole-map factorization of 48,865 2D junctions: 0.60 -> 0.45 s;
-  // BENCHMARKS.md, "Factorization").
+  // "Factorization", in the git history of BENCHMARKS.md).
   common_->nrelax[0] = 16;
   common_->nrelax[1] = 64;
   common_->nrelax[2] = 192;

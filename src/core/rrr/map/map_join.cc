@@ -1,5 +1,5 @@
 // MapVerifier: the join rule, which relates the maps of odometry chains that
-// loops between them may join (README, "Several odometry chains").
+// loops between them may join (doc/rule.md, the join rule).
 #include <algorithm>
 #include <cmath>
 #include <functional>
