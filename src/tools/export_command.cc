@@ -27,9 +27,8 @@ void AddExportCommand(CLI::App& app) {
                 "with rrr verify)");
   cmd->callback([input, output, with_rejected] {
     CheckOutputPaths({*input}, {*output});
-    // The recorded options: the decisions its updates made.
-    const RrrOptions recorded = ReadSessionDatabase(*input).options;
-    WithSessionDatabase(*input, recorded, [&](auto& session) {
+    // Under the recorded options: the decisions its updates made.
+    WithSessionDatabase(*input, nullptr, [&](auto& session) {
       std::vector<int> candidate_of_loop;
       const auto graph = session.Graph(&candidate_of_loop);
       std::vector<int> loops;

@@ -42,7 +42,7 @@ nlohmann::json MinimizeJson(const MinimizeResult& result) {
 G2oFile LoadGraph(const std::string& path, bool strict, GraphShape shape) {
   if (LooksLikeSessionDatabase(path)) {
     G2oFile file;
-    WithSessionDatabase(path, RrrOptions(),
+    WithSessionDatabase(path, nullptr,
                         [&](auto& session) { file.graph = session.Graph(); });
     return file;
   }

@@ -14,16 +14,17 @@
 
 namespace rrr {
 
-// Replays the session database at `path` (ReplaySession under `options`,
-// in a temporary copy removed afterwards)
-// and calls `use` with the session, of the dimension it was recorded in.
+// Replays the session database at `path` (ReplaySession under `options`, or
+// under the options it recorded if null, in a temporary copy removed
+// afterwards) and calls `use` with the session, of the dimension it was
+// recorded in.
 // Throws SessionError naming the file if it cannot be replayed.
 template <class Use>
-void WithSessionDatabase(const std::string& path, const RrrOptions& options,
+void WithSessionDatabase(const std::string& path, const RrrOptions* options,
                          const Use& use) {
   const SessionDatabase recorded = ReadSessionDatabase(path);
   SessionOptions session;
-  session.rrr = options;
+  session.rrr = options ? *options : recorded.options;
   const std::string copy =
       (std::filesystem::temp_directory_path() /
        ("rrr_replay_" + std::to_string(::getpid()) + ".db"))

@@ -420,7 +420,7 @@ void AddVerifyCommand(CLI::App& app) {
     // A node's session database is judged as the node judged it: its
     // inputs replayed in their order, then ~finish.
     if (args->method == "rrr" && LooksLikeSessionDatabase(args->input)) {
-      WithSessionDatabase(args->input, args->options, [&](auto& session) {
+      WithSessionDatabase(args->input, &args->options, [&](auto& session) {
         Verify(session.Graph(), nlohmann::json::object(), *args, &session);
       });
       return;
