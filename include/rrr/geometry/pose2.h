@@ -67,9 +67,15 @@ class Pose2 {
   static Jacobian RightJacobianInverse(const Tangent& xi);
 
  private:
-  // With cos and sin of theta known (composition needs no trigonometry).
+  // With cos and sin of theta known (composition needs no trigonometry),
+  // scaled back to a rotation: rounding left in them would grow, composition
+  // after composition, into a scale that no rigid motion has.
   Pose2(const Translation& t, double theta, double cos, double sin)
-      : t_(t), theta_(WrapAngle(theta)), cos_(cos), sin_(sin) {}
+      : t_(t), theta_(WrapAngle(theta)) {
+    const double norm = std::sqrt(cos * cos + sin * sin);
+    cos_ = cos / norm;
+    sin_ = sin / norm;
+  }
   // `a` wrapped to (-pi, pi].
   static double WrapAngle(double a) {
     if (a > -M_PI && a <= M_PI) return a;
